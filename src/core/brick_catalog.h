@@ -1,0 +1,48 @@
+#pragma once
+#include <deque>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+
+namespace lego {
+
+// One kind of part the physics understands: a box on the lattice with knobs on top.
+struct BrickType {
+  std::string part;  // LDraw part number without ".dat", lower case ("3001")
+  std::string name;  // "Brick  2 x  4"
+  std::string kind;  // "brick", "plate", or what the source says
+  int length = 1;    // studs along the part's local x axis (length >= width)
+  int width = 1;     // studs along the part's local z axis
+  int height = 3;    // plates
+  double mass_g = 0;
+  std::string mass_source;
+  bool has_knobs = true;
+};
+
+// The parts we support, read from ldraw_parts/catalog.csv. Types have stable addresses, so
+// bricks can point at them for as long as the catalog lives.
+class BrickCatalog {
+ public:
+  static BrickCatalog load(const std::filesystem::path& csv_file);
+  // The catalog in the parts directory found by default_parts_dir().
+  static const BrickCatalog& standard();
+
+  const BrickType* find(std::string_view part) const;  // accepts "3001", "3001.dat", "3001.DAT"
+  // The catalog type with this footprint and height (length >= width), or nullptr.
+  const BrickType* find_by_size(int length, int width, int height) const;
+  const BrickType& add(BrickType type);  // for parts learnt from an LDraw library
+  const std::deque<BrickType>& types() const { return types_; }
+
+ private:
+  std::deque<BrickType> types_;
+  std::unordered_map<std::string, const BrickType*> by_part_;
+};
+
+// ldraw_parts/: $LEGOLIZATION_PARTS if set, else the folder this build was configured with.
+std::filesystem::path default_parts_dir();
+
+// "parts/3001.DAT" -> "3001"; "s\\3068bs01.dat" -> "s/3068bs01". Lower case, forward slashes.
+std::string normalize_part_name(std::string_view name);
+
+}  // namespace lego

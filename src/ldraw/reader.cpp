@@ -1,0 +1,614 @@
+#include "ldraw/reader.h"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <system_error>
+#include <unordered_map>
+#include <variant>
+
+namespace lego::ldraw {
+namespace fs = std::filesystem;
+
+std::string Diagnostic::text() const {
+  std::string where = file;
+  if (line > 0) where += ":" + std::to_string(line);
+  return fmt::format("{}: {}: {}", where, severity == Severity::Error ? "error" : "warning",
+                     message);
+}
+
+bool Model::has_errors() const {
+  return std::any_of(diagnostics.begin(), diagnostics.end(),
+                     [](const Diagnostic& d) { return d.severity == Severity::Error; });
+}
+
+std::vector<fs::path> library_dirs_from_env() {
+  if (const char* env = std::getenv("LDRAWDIR"); env && *env) return {fs::path(env)};
+  return {};
+}
+
+namespace {
+
+// Coordinates beyond this (LDU, about 40 km) are taken as corrupt input, not a model.
+constexpr double kAbsurdCoordinate = 1e6;
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::string reference_key(std::string_view name) {
+  std::string out = lower(name);
+  std::replace(out.begin(), out.end(), '\\', '/');
+  return out;
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  return s;
+}
+
+// Splits off the next whitespace-separated token; `rest` keeps what follows.
+std::string_view next_token(std::string_view& rest) {
+  rest = trim(rest);
+  size_t end = 0;
+  while (end < rest.size() && !std::isspace(static_cast<unsigned char>(rest[end]))) ++end;
+  std::string_view token = rest.substr(0, end);
+  rest.remove_prefix(end);
+  return token;
+}
+
+std::optional<double> parse_number(std::string_view token) {
+  if (token.starts_with("+")) token.remove_prefix(1);
+  double value = 0;
+  auto [p, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+  if (ec != std::errc() || p != token.data() + token.size()) return std::nullopt;
+  return value;
+}
+
+struct RefLine {
+  int line = 0;
+  int color = kMainColor;
+  Transform transform;
+  std::string name;
+};
+struct StepMark {
+  int line = 0;
+  std::string rotstep;
+};
+using Entry = std::variant<RefLine, StepMark>;
+
+struct Block {
+  std::string name;  // FILE name as written; the file name for a plain .ldr
+  int first_line = 1;
+  std::string title, name_meta, author, ldraw_org;
+  bool seen_line = false;  // any line after the FILE line (for the title rule)
+  std::vector<Entry> entries;
+  size_t text_begin = 0, text_end = 0;
+
+  bool is_part() const {
+    std::string org = lower(ldraw_org);
+    for (const char* kind : {"part", "primitive", "subpart", "shortcut"})
+      if (org.find(kind) != std::string::npos) return true;
+    return false;
+  }
+};
+
+struct Document {
+  std::string file;  // for diagnostics
+  fs::path dir;      // for resolving relative references
+  std::string text;
+  std::vector<Block> blocks;
+  std::unordered_map<std::string, size_t> by_name;
+  const Block* find(std::string_view name) const {
+    auto it = by_name.find(reference_key(name));
+    return it == by_name.end() ? nullptr : &blocks[it->second];
+  }
+};
+
+class Parser {
+ public:
+  Parser(Document& doc, std::vector<Diagnostic>& diags, std::vector<Color>& colors)
+      : doc_(doc), diags_(diags), colors_(colors) {}
+
+  void parse() {
+    std::string_view text = doc_.text;
+    if (auto nul = text.find('\0'); nul != std::string_view::npos) {
+      error(0, fmt::format("not a text file (NUL byte at offset {})", nul));
+      return;
+    }
+    size_t pos = 0;
+    if (text.starts_with("\xEF\xBB\xBF")) pos = 3;
+    doc_.blocks.push_back(Block{});
+    doc_.blocks.back().name = fs::path(doc_.file).filename().string();
+    int line_no = 0;
+    while (pos <= text.size()) {
+      size_t end = text.find('\n', pos);
+      if (end == std::string_view::npos) end = text.size();
+      std::string_view line = text.substr(pos, end - pos);
+      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+      ++line_no;
+      parse_line(line, line_no, pos);
+      if (end == text.size()) break;
+      pos = end + 1;
+    }
+    close_block(text.size());
+    for (size_t i = 0; i < doc_.blocks.size(); ++i) {
+      auto key = reference_key(doc_.blocks[i].name);
+      if (!doc_.by_name.emplace(key, i).second && i > 0)
+        warn(doc_.blocks[i].first_line,
+             fmt::format("a second FILE block named '{}' is ignored", doc_.blocks[i].name));
+    }
+  }
+
+ private:
+  Document& doc_;
+  std::vector<Diagnostic>& diags_;
+  std::vector<Color>& colors_;
+  bool implicit_ = true;  // the current block is the text before any FILE line
+  bool in_block_ = true;  // false between NOFILE and the next FILE
+  bool has_geometry_front_ = false;
+
+  Block& block() { return doc_.blocks.back(); }
+  void error(int line, std::string msg) {
+    diags_.push_back({Severity::Error, doc_.file, line, std::move(msg)});
+  }
+  void warn(int line, std::string msg) {
+    diags_.push_back({Severity::Warning, doc_.file, line, std::move(msg)});
+  }
+  void close_block(size_t at) {
+    if (!doc_.blocks.empty() && doc_.blocks.back().text_end == 0) doc_.blocks.back().text_end = at;
+  }
+
+  void parse_line(std::string_view raw, int line_no, size_t offset) {
+    std::string_view rest = trim(raw);
+    if (rest.empty()) return;
+    std::string_view type = next_token(rest);
+    if (type == "0") return parse_meta(trim(rest), line_no, offset);
+    if (!in_block_) {
+      warn(line_no, "line outside any FILE block (after 0 NOFILE) is ignored");
+      return;
+    }
+    block().seen_line = true;
+    if (implicit_ && type != "0") has_geometry_front_ = true;
+    if (type == "1") return parse_reference(rest, line_no);
+    if (type == "2" || type == "3" || type == "4" || type == "5") {
+      size_t numbers = type == "2" ? 6 : type == "3" ? 9 : 12;
+      std::string_view color = next_token(rest);
+      if (!parse_color_code(color))
+        return warn(line_no, fmt::format("bad colour '{}' on a type-{} line", color, type));
+      for (size_t i = 0; i < numbers; ++i) {
+        auto token = next_token(rest);
+        auto v = parse_number(token);
+        if (!v || !std::isfinite(*v))
+          return warn(line_no, fmt::format("malformed type-{} line: expected {} coordinates", type,
+                                           numbers));
+      }
+      if (!trim(rest).empty()) warn(line_no, fmt::format("extra text after a type-{} line", type));
+      return;
+    }
+    warn(line_no, fmt::format("unknown line type '{}' is ignored", type));
+  }
+
+  void parse_meta(std::string_view meta, int line_no, size_t offset) {
+    std::string_view rest = meta;
+    std::string_view word = next_token(rest);
+    rest = trim(rest);
+    if (word == "FILE") {
+      if (rest.empty()) return warn(line_no, "0 FILE without a name is ignored");
+      close_block(offset);
+      if (implicit_ && doc_.blocks.size() == 1 && doc_.blocks.front().entries.empty() &&
+          !has_geometry_front_) {
+        doc_.blocks.clear();  // the text before the first FILE held no model
+      }
+      implicit_ = false;
+      in_block_ = true;
+      Block b;
+      b.name = std::string(rest);
+      b.first_line = line_no;
+      b.text_begin = offset;
+      doc_.blocks.push_back(std::move(b));
+      return;
+    }
+    if (word == "NOFILE") {
+      close_block(offset);
+      in_block_ = false;
+      return;
+    }
+    if (!in_block_) return;
+    Block& b = block();
+    bool first = !b.seen_line;
+    b.seen_line = true;
+    if (word == "STEP") {
+      b.entries.push_back(StepMark{line_no, {}});
+    } else if (word == "ROTSTEP") {
+      std::string_view args = rest;
+      std::string_view a = next_token(args);
+      bool ok = a == "END";
+      if (!ok) {
+        auto y = next_token(args), z = next_token(args);
+        auto mode = trim(args);
+        ok = parse_number(a) && parse_number(y) && parse_number(z) &&
+             (mode.empty() || mode == "REL" || mode == "ADD" || mode == "ABS");
+      }
+      if (!ok) warn(line_no, fmt::format("malformed ROTSTEP '{}' (taken as a plain STEP)", rest));
+      b.entries.push_back(StepMark{line_no, ok ? std::string(rest) : std::string()});
+    } else if (word == "Name:") {
+      b.name_meta = std::string(rest);
+    } else if (word == "Author:") {
+      b.author = std::string(rest);
+    } else if (word == "!LDRAW_ORG") {
+      b.ldraw_org = std::string(rest);
+    } else if (word == "!COLOUR") {
+      ColorTable table;
+      if (table.add_definition(meta))
+        colors_.push_back(table.colors().begin()->second);
+      else
+        warn(line_no, "malformed !COLOUR definition is ignored");
+    } else if (first && b.title.empty() && !word.starts_with("!") && word != "//" &&
+               word != "BFC" && word != "Name:" && word != "Author:") {
+      b.title = std::string(meta);
+    }
+  }
+
+  void parse_reference(std::string_view rest, int line_no) {
+    std::string_view color_token = next_token(rest);
+    auto color = parse_color_code(color_token);
+    if (!color)
+      return error(line_no, fmt::format("malformed type-1 line: bad colour '{}'", color_token));
+    double v[12];
+    for (double& x : v) {
+      std::string_view token = next_token(rest);
+      auto number = parse_number(token);
+      if (!number) {
+        return error(line_no,
+                     token.empty()
+                         ? std::string("malformed type-1 line: expected 12 numbers and a file name")
+                         : fmt::format("malformed type-1 line: '{}' is not a number", token));
+      }
+      if (!std::isfinite(*number) || std::abs(*number) > kAbsurdCoordinate)
+        return error(line_no, fmt::format("absurd number {} on a type-1 line", token));
+      x = *number;
+    }
+    std::string_view name = trim(rest);
+    if (name.empty()) return error(line_no, "malformed type-1 line: no file name");
+    RefLine ref;
+    ref.line = line_no;
+    ref.color = *color;
+    ref.transform.pos = {v[0], v[1], v[2]};
+    std::copy(v + 3, v + 12, ref.transform.rot.begin());
+    ref.name = std::string(name);
+    block().entries.push_back(std::move(ref));
+  }
+};
+
+// Finds `relative` under `dir`, matching each path component case-insensitively.
+class CaseInsensitiveFinder {
+ public:
+  std::optional<fs::path> find(const fs::path& dir, std::string_view relative) {
+    fs::path current = dir;
+    std::string rel = reference_key(relative);
+    size_t start = 0;
+    while (start <= rel.size()) {
+      size_t slash = rel.find('/', start);
+      std::string part =
+          rel.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
+      if (!part.empty()) {
+        const auto& listing = list(current);
+        auto it = listing.find(part);
+        if (it == listing.end()) return std::nullopt;
+        current /= it->second;
+      }
+      if (slash == std::string::npos) break;
+      start = slash + 1;
+    }
+    std::error_code ec;
+    if (!fs::is_regular_file(current, ec)) return std::nullopt;
+    return current;
+  }
+
+ private:
+  std::map<fs::path, std::unordered_map<std::string, std::string>> listings_;
+  const std::unordered_map<std::string, std::string>& list(const fs::path& dir) {
+    auto [it, inserted] = listings_.try_emplace(dir);
+    if (inserted) {
+      std::error_code ec;
+      for (fs::directory_iterator d(dir, ec), end; !ec && d != end; d.increment(ec))
+        it->second.emplace(lower(d->path().filename().string()), d->path().filename().string());
+    }
+    return it->second;
+  }
+};
+
+std::optional<std::string> read_bytes(const fs::path& path, std::string& error) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    error = "is a directory, not an LDraw file";
+    return std::nullopt;
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    error = "cannot open file";
+    return std::nullopt;
+  }
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) {
+    error = "cannot read file";
+    return std::nullopt;
+  }
+  return buffer.str();
+}
+
+class Flattener {
+ public:
+  Flattener(const ReadOptions& options, Model& model) : options_(options), model_(model) {
+    colors_ = ColorTable::standard();
+  }
+
+  void run(std::unique_ptr<Document> root) {
+    for (const auto& c : model_.colors) {
+      colors_.add_definition(fmt::format("!COLOUR {} CODE {} VALUE #{:06X} EDGE #{:06X}", c.name,
+                                         c.code, c.rgb, c.edge_rgb));
+    }
+    const Document& doc = *root;
+    documents_.push_back(std::move(root));
+    if (doc.blocks.empty()) return;
+    const Block* main = &doc.blocks.front();
+    if (options_.main_model) {
+      main = doc.find(*options_.main_model);
+      if (!main) {
+        model_.diagnostics.push_back(
+            {Severity::Error, doc.file, 0,
+             fmt::format("no model named '{}' in the file", *options_.main_model)});
+        return;
+      }
+    } else {
+      check_main_model(doc);
+    }
+    for (const Block& b : doc.blocks)
+      if (b.is_part())
+        model_.embedded_parts.emplace_back(
+            b.name, doc.text.substr(b.text_begin, b.text_end - b.text_begin));
+    model_.title = main->title;
+    model_.name = main->name_meta;
+    model_.author = main->author;
+    model_.ldraw_org = main->ldraw_org;
+    model_.main_block = main->name;
+    Step step;
+    stack_.push_back(main);
+    for (const Entry& entry : main->entries) {
+      if (const auto* mark = std::get_if<StepMark>(&entry)) {
+        step.rotstep = mark->rotstep;
+        model_.steps.push_back(step);
+        step = Step{step.number + 1, 0, {}};
+        continue;
+      }
+      size_t before = model_.parts.size();
+      expand(doc, std::get<RefLine>(entry), Transform{}, kMainColor, step.number, "");
+      step.parts += int(model_.parts.size() - before);
+    }
+    if (step.parts > 0 || model_.steps.empty()) model_.steps.push_back(step);
+  }
+
+ private:
+  const ReadOptions& options_;
+  Model& model_;
+  ColorTable colors_;
+  std::vector<std::unique_ptr<Document>> documents_;
+  std::map<fs::path, const Document*> external_;
+  std::vector<const Block*> stack_;
+  CaseInsensitiveFinder finder_;
+  bool budget_exceeded_ = false;
+  std::set<std::pair<std::string, int>> singular_reported_;
+
+  void diag(Severity s, const Document& doc, int line, std::string msg) {
+    model_.diagnostics.push_back({s, doc.file, line, std::move(msg)});
+  }
+
+  void check_main_model(const Document& doc) {
+    if (doc.blocks.size() < 2) return;
+    std::map<std::string, std::vector<std::string>> used_by;
+    for (const Block& b : doc.blocks)
+      for (const Entry& e : b.entries)
+        if (const auto* ref = std::get_if<RefLine>(&e); ref && doc.find(ref->name))
+          used_by[reference_key(ref->name)].push_back(b.name);
+    const Block& first = doc.blocks.front();
+    auto it = used_by.find(reference_key(first.name));
+    if (it == used_by.end()) return;
+    for (const Block& b : doc.blocks) {
+      if (&b == &first || b.is_part() || used_by.count(reference_key(b.name))) continue;
+      diag(Severity::Warning, doc, first.first_line,
+           fmt::format("the main model '{}' (the first FILE) is used as a submodel by '{}', while "
+                       "'{}' is used by nothing and may be the real main model",
+                       first.name, it->second.front(), b.name));
+      return;
+    }
+  }
+
+  int resolve_color(int color, int parent) const {
+    if (color == kMainColor) return parent;
+    if (color == kEdgeColor) {
+      if (parent == kMainColor) return kEdgeColor;
+      if (const Color* c = colors_.find(parent)) return kDirectColorBase + int(c->edge_rgb);
+      return kEdgeColor;
+    }
+    return color;
+  }
+
+  // The document of a model file referenced from `from`, parsed once.
+  const Document* external_document(const fs::path& path) {
+    auto canonical = fs::weakly_canonical(path);
+    if (auto it = external_.find(canonical); it != external_.end()) return it->second;
+    auto doc = std::make_unique<Document>();
+    doc->file = path.string();
+    doc->dir = path.parent_path();
+    std::string err;
+    auto bytes = read_bytes(path, err);
+    if (!bytes) {
+      model_.diagnostics.push_back({Severity::Error, path.string(), 0, err});
+      external_[canonical] = nullptr;
+      return nullptr;
+    }
+    doc->text = std::move(*bytes);
+    Parser(*doc, model_.diagnostics, model_.colors).parse();
+    const Document* raw = doc.get();
+    documents_.push_back(std::move(doc));
+    external_[canonical] = raw;
+    return raw;
+  }
+
+  static bool header_says_part(const fs::path& path) {
+    std::ifstream in(path);
+    std::string line;
+    for (int i = 0; i < 20 && std::getline(in, line); ++i) {
+      std::string l = lower(line);
+      if (l.find("!ldraw_org") != std::string::npos)
+        return l.find("part") != std::string::npos || l.find("primitive") != std::string::npos ||
+               l.find("shortcut") != std::string::npos;
+    }
+    return false;
+  }
+
+  void add_part(const Document& doc, const RefLine& ref, const Transform& world, int color,
+                int step, const std::string& submodel, fs::path definition, std::string embedded) {
+    if (model_.parts.size() >= options_.max_parts) {
+      if (!budget_exceeded_)
+        diag(Severity::Error, doc, ref.line,
+             fmt::format("the model expands to more than {} parts; reading stopped",
+                         options_.max_parts));
+      budget_exceeded_ = true;
+      return;
+    }
+    PlacedPart p;
+    p.part = reference_key(ref.name);
+    if (p.part.starts_with("parts/")) p.part.erase(0, 6);
+    if (p.part.ends_with(".dat")) p.part.resize(p.part.size() - 4);
+    p.reference = ref.name;
+    p.color = color;
+    p.transform = world;
+    p.file = doc.file;
+    p.line = ref.line;
+    p.step = step;
+    p.submodel = submodel;
+    p.definition = std::move(definition);
+    p.embedded_definition = std::move(embedded);
+    model_.parts.push_back(std::move(p));
+  }
+
+  void expand(const Document& doc, const RefLine& ref, const Transform& parent, int parent_color,
+              int step, const std::string& submodel) {
+    if (budget_exceeded_) return;
+    // Checked here, not while parsing: part definitions may scale primitives to nothing.
+    if (std::abs(ref.transform.determinant()) < 1e-9) {
+      if (singular_reported_.insert({doc.file, ref.line}).second)
+        diag(Severity::Error, doc, ref.line,
+             fmt::format("singular matrix: '{}' cannot be placed", ref.name));
+      return;
+    }
+    Transform world = parent.then(ref.transform);
+    int color = resolve_color(ref.color, parent_color);
+    for (double v : world.pos)
+      if (std::abs(v) > kAbsurdCoordinate) {
+        diag(Severity::Error, doc, ref.line,
+             fmt::format("'{}' lands at an absurd position", ref.name));
+        return;
+      }
+    // 1. A block of the same MPD.
+    if (const Block* target = doc.find(ref.name)) {
+      if (target->is_part())
+        return add_part(doc, ref, world, color, step, submodel, {}, target->name);
+      return descend(doc, *target, ref, world, color, step);
+    }
+    // 2. A file next to the including file, then 3. the LDraw libraries.
+    if (auto local = finder_.find(doc.dir, ref.name)) {
+      if (header_says_part(*local))
+        return add_part(doc, ref, world, color, step, submodel, *local, {});
+      const Document* sub = external_document(*local);
+      if (!sub || sub->blocks.empty()) return;
+      return descend(*sub, sub->blocks.front(), ref, world, color, step);
+    }
+    for (const fs::path& lib : options_.library_dirs) {
+      for (const char* folder : {"parts", "p", "unofficial/parts", "unofficial/p"})
+        if (auto found = finder_.find(lib / folder, ref.name))
+          return add_part(doc, ref, world, color, step, submodel, *found, {});
+      if (auto found = finder_.find(lib / "models", ref.name)) {
+        const Document* sub = external_document(*found);
+        if (!sub || sub->blocks.empty()) return;
+        return descend(*sub, sub->blocks.front(), ref, world, color, step);
+      }
+    }
+    std::string ext = lower(fs::path(ref.name).extension().string());
+    if (ext == ".ldr" || ext == ".mpd" || ext == ".l3b") {
+      diag(Severity::Error, doc, ref.line, fmt::format("missing submodel '{}'", ref.name));
+      return;
+    }
+    add_part(doc, ref, world, color, step, submodel, {}, {});  // a part with no definition here
+  }
+
+  void descend(const Document& doc, const Block& target, const RefLine& ref, const Transform& world,
+               int color, int step) {
+    if (std::find(stack_.begin(), stack_.end(), &target) != stack_.end()) {
+      std::string chain;
+      for (const Block* b : stack_) chain += b->name + " -> ";
+      diag(Severity::Error, doc, ref.line, fmt::format("reference loop: {}{}", chain, target.name));
+      return;
+    }
+    if (int(stack_.size()) >= options_.max_depth) {
+      diag(Severity::Error, doc, ref.line,
+           fmt::format("submodels nested deeper than {} levels", options_.max_depth));
+      return;
+    }
+    if (std::find(model_.submodels.begin(), model_.submodels.end(), target.name) ==
+        model_.submodels.end())
+      model_.submodels.push_back(target.name);
+    stack_.push_back(&target);
+    for (const Entry& entry : target.entries)
+      if (const auto* child = std::get_if<RefLine>(&entry))
+        expand(doc, *child, world, color, step, target.name);
+    stack_.pop_back();
+  }
+};
+
+Model read_document(std::unique_ptr<Document> doc, const ReadOptions& options) {
+  Model model;
+  model.source = doc->file;
+  Parser(*doc, model.diagnostics, model.colors).parse();
+  if (!model.has_errors() || !doc->blocks.empty()) Flattener(options, model).run(std::move(doc));
+  return model;
+}
+
+}  // namespace
+
+Model read_text(std::string_view text, const std::string& name, const ReadOptions& options) {
+  auto doc = std::make_unique<Document>();
+  doc->file = name;
+  doc->dir = fs::path(name).parent_path();
+  if (doc->dir.empty()) doc->dir = ".";
+  doc->text = std::string(text);
+  return read_document(std::move(doc), options);
+}
+
+Model read_file(const fs::path& path, const ReadOptions& options) {
+  std::string err;
+  auto bytes = read_bytes(path, err);
+  if (!bytes) {
+    Model model;
+    model.source = path.string();
+    model.diagnostics.push_back({Severity::Error, path.string(), 0, err});
+    return model;
+  }
+  return read_text(*bytes, path.string(), options);
+}
+
+}  // namespace lego::ldraw

@@ -1,0 +1,75 @@
+#pragma once
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ldraw/color_table.h"
+#include "ldraw/transform.h"
+
+namespace lego::ldraw {
+
+enum class Severity { Warning, Error };
+
+struct Diagnostic {
+  Severity severity = Severity::Warning;
+  std::string file;
+  int line = 0;
+  std::string message;
+  std::string text() const;  // "file:line: error: message"
+};
+
+// A part placed in the world after flattening submodels.
+struct PlacedPart {
+  std::string part;       // normalized reference: "3001", "s/3068bs01"
+  std::string reference;  // as written on the type-1 line
+  int color = kMainColor;
+  Transform transform;  // world placement
+  std::string file;     // where the type-1 line that placed it is
+  int line = 0;
+  int step = 1;                      // step of the main model (1-based) at which it appears
+  std::string submodel;              // the model block holding the line ("" = main model)
+  std::filesystem::path definition;  // its part file, when one was found on disk
+  std::string embedded_definition;   // its FILE block name, when the MPD embeds it
+};
+
+// One step of the main model, ended by `0 STEP`, `0 ROTSTEP` or the end of the file.
+struct Step {
+  int number = 1;
+  int parts = 0;        // placed parts added in this step (after flattening)
+  std::string rotstep;  // the ROTSTEP that ended it, if any ("0 0 180 REL", "END")
+};
+
+struct Model {
+  std::string source;                          // the path given, or the name of an in-memory text
+  std::string title, name, author, ldraw_org;  // header of the main model
+  std::string main_block;                      // name of the main model's FILE block
+  std::vector<std::string> submodels;          // model blocks used while flattening (no parts)
+  std::vector<PlacedPart> parts;
+  std::vector<Step> steps;
+  std::vector<Color> colors;  // `0 !COLOUR` definitions found in the file
+  std::vector<Diagnostic> diagnostics;
+
+  bool has_errors() const;
+  // Embedded part definitions (packed MPD): name -> lines, for analysing unknown parts.
+  std::vector<std::pair<std::string, std::string>> embedded_parts;
+};
+
+struct ReadOptions {
+  std::vector<std::filesystem::path> library_dirs;  // LDraw libraries: parts/, p/, models/
+  std::optional<std::string> main_model;            // choose an MPD's main model by name
+  std::size_t max_parts = 2'000'000;  // a model expanding to more is refused (exponential nesting)
+  int max_depth = 64;
+};
+
+// Reads a .ldr/.mpd from disk. Never throws for bad content: problems become diagnostics.
+Model read_file(const std::filesystem::path& path, const ReadOptions& options = {});
+// Reads LDraw text held in memory; `name` is used in diagnostics and to resolve relative files.
+Model read_text(std::string_view text, const std::string& name, const ReadOptions& options = {});
+
+// The LDraw library directories named by $LDRAWDIR, if set.
+std::vector<std::filesystem::path> library_dirs_from_env();
+
+}  // namespace lego::ldraw

@@ -1,0 +1,126 @@
+#include "ldraw/writer.h"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <system_error>
+
+#include "core/error.h"
+#include "ldraw/assembly_builder.h"
+
+namespace lego::ldraw {
+namespace {
+
+std::string number(double v) {
+  std::string s = fmt::format("{:.4f}", v);
+  while (s.back() == '0') s.pop_back();
+  if (s.back() == '.') s.pop_back();
+  return s == "-0" ? "0" : s;
+}
+
+std::string color_field(int code) {
+  return code >= kDirectColorBase ? fmt::format("0x2{:06X}", code - kDirectColorBase)
+                                  : std::to_string(code);
+}
+
+std::string brick_line(const Brick& b, const std::array<int, 3>& origin) {
+  Transform t = brick_transform(b, origin);
+  std::string line = fmt::format("1 {} {} {} {}", color_field(b.color), number(t.pos[0]),
+                                 number(t.pos[1]), number(t.pos[2]));
+  for (double m : t.rot) line += " " + number(m);
+  return line + " " + b.type->part + ".dat\n";
+}
+
+std::string header(const std::string& title, const std::string& name, const std::string& author) {
+  return fmt::format("0 {}\n0 Name: {}\n0 Author: {}\n0 !LDRAW_ORG Unofficial_Model\n\n", title,
+                     name, author);
+}
+
+// Brick indices ordered by step, stable within a step.
+std::vector<size_t> by_step(const Assembly& a) {
+  std::vector<size_t> order(a.bricks.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) {
+    return a.bricks[x].source.step < a.bricks[y].source.step;
+  });
+  return order;
+}
+
+}  // namespace
+
+std::string to_ldr(const Assembly& assembly, const WriteOptions& options) {
+  std::string out =
+      header(options.title, options.name.empty() ? "model.ldr" : options.name, options.author);
+  auto order = options.steps ? by_step(assembly) : std::vector<size_t>{};
+  if (!options.steps)
+    for (size_t i = 0; i < assembly.bricks.size(); ++i) order.push_back(i);
+  for (size_t k = 0; k < order.size(); ++k) {
+    const Brick& b = assembly.bricks[order[k]];
+    if (options.steps && k > 0 && assembly.bricks[order[k - 1]].source.step != b.source.step)
+      out += "0 STEP\n";
+    out += brick_line(b, assembly.origin_ldu);
+  }
+  if (options.steps && !order.empty()) out += "0 STEP\n";
+  return out;
+}
+
+std::string to_mpd(const Assembly& assembly, const WriteOptions& options) {
+  std::string main_name = options.name.empty() ? "model.ldr" : options.name;
+  std::string stem = std::filesystem::path(main_name).stem().string();
+  std::map<int, std::vector<size_t>> steps;
+  for (size_t i : by_step(assembly)) steps[assembly.bricks[i].source.step].push_back(i);
+  std::string out = "0 FILE " + main_name + "\n" + header(options.title, main_name, options.author);
+  std::vector<std::string> names;
+  int k = 0;
+  for (size_t i = 0; i < steps.size(); ++i) {
+    names.push_back(fmt::format("{}-step-{:03}.ldr", stem, ++k));
+    out += "1 16 0 0 0 1 0 0 0 1 0 0 0 1 " + names.back() + "\n0 STEP\n";
+  }
+  out += "0 NOFILE\n";
+  k = 0;
+  for (const auto& [step, bricks] : steps) {
+    const std::string& name = names[k++];
+    out += "0 FILE " + name + "\n" +
+           header(fmt::format("{} - step {}", options.title, k), name, options.author);
+    for (size_t i : bricks) out += brick_line(assembly.bricks[i], assembly.origin_ldu);
+    out += "0 NOFILE\n";
+  }
+  return out;
+}
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
+  auto tmp = path;
+  tmp += ".tmp-legolization";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(path.string(), 0, "cannot write here");
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw InputError(path.string(), 0, "writing failed");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw InputError(path.string(), 0, "cannot move the written file into place");
+  }
+}
+
+void write_model(const std::filesystem::path& path, const Assembly& assembly,
+                 WriteOptions options) {
+  if (options.name.empty()) options.name = path.filename().string();
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  write_file_atomically(path,
+                        ext == ".mpd" ? to_mpd(assembly, options) : to_ldr(assembly, options));
+}
+
+}  // namespace lego::ldraw

@@ -1,0 +1,201 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "ldraw/assembly_builder.h"
+#include "ldraw/reader.h"
+#include "test_paths.h"
+
+namespace lego::ldraw {
+namespace {
+
+namespace fs = std::filesystem;
+
+int count(const Model& m, Severity s) {
+  int n = 0;
+  for (const auto& d : m.diagnostics) n += d.severity == s;
+  return n;
+}
+
+const Diagnostic* find_diag(const Model& m, const std::string& needle) {
+  for (const auto& d : m.diagnostics)
+    if (d.message.find(needle) != std::string::npos) return &d;
+  return nullptr;
+}
+
+TEST(Reader, ReadsHeaderPartsAndAllLineTypes) {
+  Model m = read_text(
+      "0 My model\n0 Name: my.ldr\n0 Author: A. Builder\n0 !LDRAW_ORG Unofficial_Model\n"
+      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "2 24 0 0 0 1 1 1\n3 16 0 0 0 1 0 0 0 0 1\n4 16 0 0 0 1 0 0 1 0 1 0 0 1\n"
+      "5 24 0 0 0 1 0 0 0 0 1 1 1 1\n",
+      "my.ldr");
+  EXPECT_FALSE(m.has_errors());
+  EXPECT_EQ(m.diagnostics.size(), 0u);
+  EXPECT_EQ(m.title, "My model");
+  EXPECT_EQ(m.name, "my.ldr");
+  EXPECT_EQ(m.author, "A. Builder");
+  EXPECT_EQ(m.ldraw_org, "Unofficial_Model");
+  ASSERT_EQ(m.parts.size(), 1u);
+  EXPECT_EQ(m.parts[0].part, "3001");
+  EXPECT_EQ(m.parts[0].color, 4);
+  EXPECT_EQ(m.parts[0].line, 5);
+  EXPECT_DOUBLE_EQ(m.parts[0].transform.pos[1], -24);
+}
+
+TEST(Reader, MpdSubmodelsComposeTransformsAndInheritColour) {
+  Model m = read_text(
+      "0 FILE main.ldr\n0 Main\n"
+      "1 4 100 0 0 0 0 1 0 1 0 -1 0 0 Sub Model.ldr\n"
+      "0 STEP\n"
+      "1 1 0 -24 0 1 0 0 0 1 0 0 0 1 3003.dat\n"
+      "0 NOFILE\n"
+      "0 FILE sub model.LDR\n0 Sub\n"
+      "1 16 20 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 24 0 0 40 1 0 0 0 1 0 0 0 1 3005.dat\n"
+      "0 NOFILE\n",
+      "main.mpd");
+  ASSERT_FALSE(m.has_errors()) << m.diagnostics.front().text();
+  ASSERT_EQ(m.parts.size(), 3u);
+  // Rotated 90 degrees about y: local x=20 lands at world z=-20, shifted by 100 in x.
+  EXPECT_DOUBLE_EQ(m.parts[0].transform.pos[0], 100);
+  EXPECT_DOUBLE_EQ(m.parts[0].transform.pos[2], -20);
+  EXPECT_DOUBLE_EQ(m.parts[0].transform.rot[2], 1);
+  EXPECT_EQ(m.parts[0].color, 4);                            // 16 inherits red
+  EXPECT_EQ(m.parts[1].color, kDirectColorBase + 0x333333);  // 24: red's edge colour
+  EXPECT_EQ(m.parts[0].submodel, "sub model.LDR");
+  EXPECT_EQ(m.parts[0].step, 1);
+  EXPECT_EQ(m.parts[2].step, 2);
+  EXPECT_EQ(m.steps.size(), 2u);
+  ASSERT_EQ(m.submodels.size(), 1u);
+  EXPECT_EQ(m.main_block, "main.ldr");
+}
+
+TEST(Reader, RecordsStepsAndRotsteps) {
+  Model m = read_text(
+      "0 m\n1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 ROTSTEP 0 90 0 REL\n"
+      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 ROTSTEP END\n"
+      "1 4 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n",
+      "s.ldr");
+  ASSERT_EQ(m.steps.size(), 3u);
+  EXPECT_EQ(m.steps[0].rotstep, "0 90 0 REL");
+  EXPECT_EQ(m.steps[1].rotstep, "END");
+  EXPECT_EQ(m.steps[2].parts, 1);
+  EXPECT_EQ(m.parts[2].step, 3);
+}
+
+TEST(Reader, MalformedTypeOneLineIsAnErrorWithItsLine) {
+  Model m = read_text("0 m\n1 4 0 0 zero 1 0 0 0 1 0 0 0 1 3001.dat\n1 4 0 0 0 1 0 0 0 1 0 0 0 1\n",
+                      "bad.ldr");
+  EXPECT_EQ(count(m, Severity::Error), 2);
+  EXPECT_EQ(m.diagnostics[0].line, 2);
+  EXPECT_EQ(m.diagnostics[0].text(),
+            "bad.ldr:2: error: malformed type-1 line: 'zero' is not a number");
+  EXPECT_EQ(m.diagnostics[1].line, 3);
+  EXPECT_TRUE(m.parts.empty());
+}
+
+TEST(Reader, SingularMatrixAbsurdCoordinatesAndShear) {
+  Model m = read_text(
+      "0 m\n1 4 0 0 0 0 0 0 0 1 0 0 0 1 3001.dat\n1 4 1e12 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 4 0 0 0 2 0 0 0 1 0 0 0 1 3001.dat\n1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n",
+      "m.ldr");
+  EXPECT_EQ(count(m, Severity::Error), 2);
+  EXPECT_EQ(find_diag(m, "singular")->line, 2);
+  EXPECT_EQ(find_diag(m, "absurd")->line, 3);
+  ASSERT_EQ(m.parts.size(), 2u);  // the scaled part is read; it cannot become a brick
+  auto conv = to_assembly(m, BrickCatalog::standard());
+  ASSERT_EQ(conv.skipped.size(), 1u);
+  EXPECT_EQ(conv.skipped[0].reason, "scaled or sheared");
+  EXPECT_EQ(m.parts[conv.skipped[0].part].line, 4);
+}
+
+TEST(Reader, MalformedMetaAndGeometryAreWarnings) {
+  Model m =
+      read_text("0 m\n0 ROTSTEP sideways\n3 16 0 0\n7 1 2 3\n0 !COLOUR Broken CODE x\n", "w.ldr");
+  EXPECT_EQ(count(m, Severity::Error), 0);
+  EXPECT_EQ(count(m, Severity::Warning), 4);
+}
+
+TEST(Reader, MissingSubmodelAndReferenceLoop) {
+  Model m = read_text(
+      "0 FILE a.ldr\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 b.ldr\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 nowhere.ldr\n"
+      "0 FILE b.ldr\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 a.ldr\n1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n",
+      "loop.mpd");
+  const Diagnostic* loop = find_diag(m, "reference loop");
+  ASSERT_NE(loop, nullptr);
+  EXPECT_EQ(loop->line, 5);
+  EXPECT_NE(loop->message.find("a.ldr -> b.ldr -> a.ldr"), std::string::npos);
+  const Diagnostic* missing = find_diag(m, "missing submodel 'nowhere.ldr'");
+  ASSERT_NE(missing, nullptr);
+  EXPECT_EQ(missing->line, 3);
+  EXPECT_EQ(m.parts.size(), 1u);
+}
+
+TEST(Reader, ExponentialNestingStopsAtTheBudget) {
+  std::string text = "0 FILE m0.ldr\n";
+  for (int level = 0; level < 30; ++level) {
+    for (int k = 0; k < 10; ++k)
+      text += "1 16 0 0 0 1 0 0 0 1 0 0 0 1 m" + std::to_string(level + 1) + ".ldr\n";
+    text += "0 FILE m" + std::to_string(level + 1) + ".ldr\n";
+  }
+  text += "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  ReadOptions options;
+  options.max_parts = 1000;
+  Model m = read_text(text, "bomb.mpd", options);
+  EXPECT_EQ(m.parts.size(), 1000u);
+  EXPECT_NE(find_diag(m, "more than 1000 parts"), nullptr);
+}
+
+TEST(Reader, BinaryDirectoryAndMissingFiles) {
+  Model binary = read_text(std::string("0 x\n\0\1\2", 7), "bin.ldr");
+  ASSERT_TRUE(binary.has_errors());
+  EXPECT_NE(binary.diagnostics[0].message.find("not a text file"), std::string::npos);
+  Model dir = read_file(fs::temp_directory_path());
+  ASSERT_TRUE(dir.has_errors());
+  EXPECT_NE(dir.diagnostics[0].message.find("directory"), std::string::npos);
+  Model missing = read_file("/nonexistent/model.ldr");
+  ASSERT_TRUE(missing.has_errors());
+  EXPECT_EQ(missing.diagnostics[0].file, "/nonexistent/model.ldr");
+}
+
+TEST(Reader, CrlfBomAndNoFinalNewline) {
+  Model m = read_text(
+      "\xEF\xBB\xBF"
+      "0 T\r\n1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.DAT",
+      "c.ldr");
+  EXPECT_FALSE(m.has_errors());
+  ASSERT_EQ(m.parts.size(), 1u);
+  EXPECT_EQ(m.parts[0].part, "3001");
+  EXPECT_EQ(m.title, "T");
+}
+
+// Multi-file models: parts and submodels that are files next to the model, and an LDraw library.
+TEST(Reader, ResolvesLocalFilesAndLibrary) {
+  auto dir = fs::temp_directory_path() / "lego_reader_multi";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "lib" / "parts");
+  std::ofstream(dir / "Wing.LDR") << "0 Wing\n1 16 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  std::ofstream(dir / "custom.dat")
+      << "0 Custom\n0 !LDRAW_ORG Unofficial_Part\n4 16 0 0 0 1 0 0 1 0 1 0 0 1\n";
+  std::ofstream(dir / "lib" / "parts" / "3068b.dat")
+      << "0 Tile\n0 !LDRAW_ORG Part UPDATE 2004-03\n";
+  std::ofstream(dir / "main.ldr") << "0 Main\n1 2 0 0 0 1 0 0 0 1 0 0 0 1 wing.ldr\n"
+                                     "1 1 0 0 0 1 0 0 0 1 0 0 0 1 custom.dat\n"
+                                     "1 1 0 0 0 1 0 0 0 1 0 0 0 1 3068b.dat\n";
+  ReadOptions options;
+  options.library_dirs = {dir / "lib"};
+  Model m = read_file(dir / "main.ldr", options);
+  ASSERT_FALSE(m.has_errors());
+  ASSERT_EQ(m.parts.size(), 3u);
+  EXPECT_EQ(m.parts[0].part, "3001");
+  EXPECT_EQ(m.parts[0].color, 2);
+  EXPECT_EQ(m.parts[0].file, (dir / "Wing.LDR").string());
+  EXPECT_EQ(m.parts[1].definition, dir / "custom.dat");
+  EXPECT_EQ(m.parts[2].definition, dir / "lib" / "parts" / "3068b.dat");
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lego::ldraw

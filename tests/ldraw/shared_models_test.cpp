@@ -1,0 +1,99 @@
+// The real models in ../shared/ldraw-models read without errors, with their parts, submodels
+// and steps accounted for.
+#include <gtest/gtest.h>
+
+#include "ldraw/assembly_builder.h"
+#include "ldraw/reader.h"
+#include "test_paths.h"
+
+namespace lego::ldraw {
+namespace {
+
+struct Expected {
+  const char* file;
+  size_t parts;
+  size_t submodels;
+  size_t steps;
+  const char* main_block;
+};
+
+void PrintTo(const Expected& e, std::ostream* os) {
+  *os << e.file;
+}
+
+class SharedModels : public testing::TestWithParam<Expected> {};
+
+TEST_P(SharedModels, ReadWithoutErrors) {
+  SKIP_WITHOUT_SHARED();
+  const Expected& e = GetParam();
+  Model m = read_file(test::shared_dir() / "ldraw-models" / e.file);
+  for (const auto& d : m.diagnostics) EXPECT_NE(d.severity, Severity::Error) << d.text();
+  EXPECT_EQ(m.parts.size(), e.parts);
+  EXPECT_EQ(m.submodels.size(), e.submodels);
+  EXPECT_EQ(m.steps.size(), e.steps);
+  EXPECT_EQ(m.main_block, e.main_block);
+  int step_parts = 0;
+  for (const auto& s : m.steps) step_parts += s.parts;
+  EXPECT_EQ(size_t(step_parts), m.parts.size());
+}
+
+// Counts checked against ../shared/ldraw-models/README.md (type-1 lines, submodel references,
+// one submodel used twice) and by reading each file.
+INSTANTIATE_TEST_SUITE_P(
+    Real, SharedModels,
+    testing::Values(Expected{"car.ldr", 61, 0, 8, "car.ldr"},
+                    Expected{"30023-1-Lighthouse.ldr", 25, 0, 1, "30023-1-Lighthouse.ldr"},
+                    Expected{"889-1-RadarTruck.mpd", 35, 3, 2, "889 - Rader Truck.ldr"},
+                    Expected{"4838-1-MiniVehicles.mpd", 79, 2, 18,
+                             "4838 - Mini Vehicles - Carrier and Car.mpd"},
+                    // "Side" is placed twice: 62 part lines + 5 more parts.
+                    Expected{"4915-1-MiniConstruction.mpd", 67, 5, 12,
+                             "4915 - Mini Construction - Excavator.mpd"},
+                    Expected{"5935-1-IslandHopper.mpd", 203, 4, 1, "5935 - Island Hopper.ldr"},
+                    Expected{"1621-1-LunarMPVVehicle.mpd", 104, 12, 1,
+                             "1621 - Lunar MPV Vehicle.ldr"},
+                    // The first FILE is the left door: the spec's main model, with a warning.
+                    Expected{"Bulldog.mpd", 9, 0, 7, "LDoor.dat"},
+                    Expected{"car.ldr_Packed.mpd", 61, 0, 8, "car.ldr_Packed.mpd"}),
+    [](const auto& info) {
+      std::string n = info.param.file;
+      for (char& c : n)
+        if (!isalnum(static_cast<unsigned char>(c))) c = '_';
+      return n;
+    });
+
+}  // namespace
+}  // namespace lego::ldraw
+
+namespace lego::ldraw {
+namespace {
+
+TEST(SharedModelsDetail, BulldogWarnsAboutItsMainModelAndCanBeReadWhole) {
+  SKIP_WITHOUT_SHARED();
+  auto path = test::shared_dir() / "ldraw-models" / "Bulldog.mpd";
+  Model m = read_file(path);
+  ASSERT_FALSE(m.diagnostics.empty());
+  EXPECT_NE(m.diagnostics[0].message.find("'Bulldog.dat' is used by nothing"), std::string::npos);
+  ReadOptions options;
+  options.main_model = "bulldog.dat";
+  Model whole = read_file(path, options);
+  EXPECT_FALSE(whole.has_errors());
+  EXPECT_EQ(whole.parts.size(), 123u);  // 105 part lines + two doors of 9 parts
+  EXPECT_EQ(whole.submodels.size(), 2u);
+}
+
+TEST(SharedModelsDetail, PackedMpdResolvesEmbeddedParts) {
+  SKIP_WITHOUT_SHARED();
+  Model m = read_file(test::shared_dir() / "ldraw-models" / "car.ldr_Packed.mpd");
+  EXPECT_EQ(m.diagnostics.size(), 0u);
+  for (const auto& p : m.parts) EXPECT_FALSE(p.embedded_definition.empty()) << p.reference;
+  EXPECT_EQ(m.parts[0].part, "4315");
+  EXPECT_GE(m.embedded_parts.size(), 100u);
+  auto conv = to_assembly(m, BrickCatalog::standard());
+  auto plain = to_assembly(read_file(test::shared_dir() / "ldraw-models" / "car.ldr"),
+                           BrickCatalog::standard());
+  EXPECT_EQ(conv.assembly.bricks.size(), plain.assembly.bricks.size());
+}
+
+}  // namespace
+}  // namespace lego::ldraw
