@@ -30,8 +30,12 @@ std::string brick_line(const Brick& b, const std::array<int, 3>& origin) {
   Transform t = brick_transform(b, origin);
   std::string line = fmt::format("1 {} {} {} {}", color_field(b.color), number(t.pos[0]),
                                  number(t.pos[1]), number(t.pos[2]));
-  for (double m : t.rot) line += " " + number(m);
-  return line + " " + b.type->part + ".dat\n";
+  for (double m : t.rot) {
+    line += ' ';
+    line += number(m);
+  }
+  line += fmt::format(" {}.dat\n", b.type->part);
+  return line;
 }
 
 std::string header(const std::string& title, const std::string& name, const std::string& author) {

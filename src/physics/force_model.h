@@ -1,0 +1,37 @@
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/assembly.h"
+#include "physics/contact_graph.h"
+
+namespace lego::physics {
+
+// Constants of PHYSICS.md. Forces inside the solver are in g·m/s² (1 g·m/s² = 1 mN).
+inline constexpr double kGravity = 9.8;
+inline constexpr double kMaxFrictionLoad = 71.658 * kGravity;  // T, per contact point
+
+enum class ForceKind : uint8_t { Friction, Normal, Support };
+
+// The equilibrium equations of PHYSICS.md, A·x = b: six rows per brick (force x, y, z, torque
+// x, y, z about the brick's centre), one column per contact force. Friction columns come first,
+// in the order of ContactGraph::friction_points, so column i is friction point i.
+// Stored column-major, built in one pass, so solvers can take the arrays as they are.
+struct EquilibriumSystem {
+  int rows = 0;
+  std::vector<int> column_start{0};  // size columns + 1
+  std::vector<int> row_index;
+  std::vector<double> value;
+  std::vector<ForceKind> kind;  // per column
+  std::vector<int> contact;     // per column: stacked contact, or -1 - side contact index
+  std::vector<double> rhs;      // b, per row
+
+  int columns() const { return int(kind.size()); }
+  int friction_columns = 0;
+  static int row(int brick, int equation) { return 6 * brick + equation; }
+};
+
+// Lengths in the equations are in studs (a plate is 0.4 stud): torques need true proportions.
+EquilibriumSystem build_equilibrium(const Assembly& assembly, const ContactGraph& graph);
+
+}  // namespace lego::physics

@@ -1,0 +1,223 @@
+#include "physics/stability.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "physics/clp_lp.h"
+
+namespace lego::physics {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// In the scaled form w = T / max f. Past this bound friction is negligible: C_M = T.
+constexpr double kMaxScale = 1e6;
+// Below this w (friction above 1000 T) we confirm that an equilibrium exists at all before
+// trusting 1/w: an infeasible model shows up as w* = 0 up to the solver's tolerance.
+constexpr double kConfirmBelow = 1e-3;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The equilibrium columns with the bounds of their kind; friction bounded by `friction_upper`.
+LpData equilibrium_lp(const EquilibriumSystem& sys, double friction_upper, double rhs_scale) {
+  LpData lp;
+  lp.rows = sys.rows;
+  lp.start = sys.column_start;
+  lp.index = sys.row_index;
+  lp.value = sys.value;
+  for (int j = 0; j < sys.columns(); ++j) {
+    switch (sys.kind[j]) {
+      case ForceKind::Friction:
+        lp.col_lower.push_back(0), lp.col_upper.push_back(friction_upper);
+        break;
+      case ForceKind::Normal:
+        lp.col_lower.push_back(0), lp.col_upper.push_back(kInfinity);
+        break;
+      case ForceKind::Support:
+        lp.col_lower.push_back(-kInfinity), lp.col_upper.push_back(kInfinity);
+        break;
+    }
+    lp.objective.push_back(0);
+  }
+  for (double b : sys.rhs) {
+    lp.row_lower.push_back(b * rhs_scale);
+    lp.row_upper.push_back(b * rhs_scale);
+  }
+  return lp;
+}
+
+void rank_weakest(const EquilibriumSystem& sys, const ContactGraph& g,
+                  const std::vector<double>& duals, StabilityResult& r) {
+  double largest = 0;
+  for (int j = 0; j < sys.friction_columns; ++j) largest = std::max(largest, std::abs(duals[j]));
+  if (largest <= 0) return;
+  std::map<int, double> by_contact;
+  double total = 0;
+  for (int j = 0; j < sys.friction_columns; ++j) {
+    double d = std::abs(duals[j]);
+    if (d <= 1e-9 * largest) continue;
+    by_contact[sys.contact[j]] += d;
+    total += d;
+  }
+  for (auto [contact, sum] : by_contact)
+    r.weakest.push_back({contact, g.stacked[contact].lower, g.stacked[contact].upper, sum / total});
+  std::stable_sort(r.weakest.begin(), r.weakest.end(),
+                   [](const WeakContact& a, const WeakContact& b) { return a.share > b.share; });
+}
+
+bool equilibrium_exists(const EquilibriumSystem& sys, const StabilityOptions& o) {
+  LpData lp = equilibrium_lp(sys, kInfinity, 1.0 / kMaxFrictionLoad);
+  return solve_lp(lp, LpMethod::DualSimplex, o.presolve, o.scaling, o.max_seconds).outcome !=
+         LpOutcome::Infeasible;
+}
+
+void set_failure(StabilityResult& r, const LpSolution& s) {
+  r.status = s.outcome == LpOutcome::IterationLimit ? StabilityStatus::IterationLimit
+                                                    : StabilityStatus::NumericalTrouble;
+  r.message = s.message;
+}
+
+void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, StabilityResult& r) {
+  LpData lp = equilibrium_lp(sys, 1.0, 0.0);
+  std::vector<std::pair<int, double>> w_entries;
+  for (int row = 0; row < sys.rows; ++row)
+    if (sys.rhs[row] != 0) w_entries.emplace_back(row, -sys.rhs[row] / kMaxFrictionLoad);
+  lp.add_column(0, kMaxScale, -1, w_entries);
+  r.stats.rows = lp.rows;
+  r.stats.columns = lp.columns();
+  r.stats.nonzeros = int(lp.index.size());
+  LpSolution s = solve_lp(lp, o.method, o.presolve, o.scaling, o.max_seconds);
+  r.stats.iterations = s.iterations;
+  if (s.outcome != LpOutcome::Optimal) return set_failure(r, s);  // w = 0 is always feasible
+  const double w = s.x.back();
+  if (w >= kMaxScale * (1 - 1e-9)) {
+    r.status = StabilityStatus::Solved;
+    r.cm = kMaxFrictionLoad;  // no friction needed anywhere
+    return;
+  }
+  if (w < kConfirmBelow && !equilibrium_exists(sys, o)) {
+    r.status = StabilityStatus::NoEquilibrium;
+    r.message = "no force distribution balances every brick";
+    return;
+  }
+  r.status = StabilityStatus::Solved;
+  r.cm = kMaxFrictionLoad * (1 - 1 / w);
+  std::vector<double> duals(sys.friction_columns, 0.0);
+  for (int j = 0; j < sys.friction_columns; ++j)
+    if (s.x[j] > 1 - 1e-6) duals[j] = s.reduced_cost[j];
+  rank_weakest(sys, r.graph, duals, r);
+}
+
+void solve_max_min(const EquilibriumSystem& sys, const StabilityOptions& o, StabilityResult& r) {
+  LpData lp;
+  const int f = sys.friction_columns;
+  lp.rows = sys.rows + f;
+  for (int j = 0; j < sys.columns(); ++j) {
+    std::vector<std::pair<int, double>> entries;
+    for (int k = sys.column_start[j]; k < sys.column_start[j + 1]; ++k)
+      entries.emplace_back(sys.row_index[k], sys.value[k]);
+    if (j < f) entries.emplace_back(sys.rows + j, 1.0);
+    double lower = sys.kind[j] == ForceKind::Support ? -kInfinity : 0.0;
+    lp.add_column(lower, kInfinity, 0, entries);
+  }
+  std::vector<std::pair<int, double>> t_entries;
+  for (int j = 0; j < f; ++j) t_entries.emplace_back(sys.rows + j, 1.0);
+  lp.add_column(-kInfinity, kMaxFrictionLoad, -1, t_entries);
+  lp.row_lower = sys.rhs;
+  lp.row_upper = sys.rhs;
+  lp.row_lower.resize(lp.rows, -kInfinity);
+  lp.row_upper.resize(lp.rows, kMaxFrictionLoad);
+  r.stats.rows = lp.rows;
+  r.stats.columns = lp.columns();
+  r.stats.nonzeros = int(lp.index.size());
+  LpSolution s = solve_lp(lp, o.method, o.presolve, o.scaling, o.max_seconds);
+  r.stats.iterations = s.iterations;
+  if (s.outcome == LpOutcome::Infeasible) {
+    r.status = StabilityStatus::NoEquilibrium;
+    r.message = "no force distribution balances every brick";
+    return;
+  }
+  if (s.outcome != LpOutcome::Optimal) return set_failure(r, s);
+  r.status = StabilityStatus::Solved;
+  r.cm = s.x.back();
+  rank_weakest(sys, r.graph, std::vector<double>(s.row_dual.begin() + sys.rows, s.row_dual.end()),
+               r);
+}
+
+// Per-brick capacity from the minimum-norm friction distribution among those reaching C_M:
+// min Σ f² is strictly convex in f, so the friction forces are unique and the heat map does not
+// depend on the simplex's pivoting.
+void brick_capacity(const Assembly& a, const EquilibriumSystem& sys, const StabilityOptions& o,
+                    StabilityResult& r) {
+  const int n = int(a.bricks.size());
+  r.brick_capacity.assign(n, kMaxFrictionLoad);
+  const double u = (kMaxFrictionLoad - r.cm) / kMaxFrictionLoad;  // max friction, in units of T
+  if (u <= 0) return;
+  LpData lp = equilibrium_lp(sys, u * (1 + 1e-7) + 1e-9, 1.0 / kMaxFrictionLoad);
+  lp.quadratic_diagonal.assign(lp.columns(), 0.0);
+  for (int j = 0; j < sys.friction_columns; ++j) lp.quadratic_diagonal[j] = 1.0;
+  LpSolution s = solve_lp(lp, LpMethod::PrimalSimplex, false, o.scaling, o.max_seconds);
+  if (s.outcome != LpOutcome::Optimal) {
+    r.brick_capacity.clear();
+    r.message = "per-brick capacity not computed: " + s.message;
+    return;
+  }
+  for (int j = 0; j < sys.friction_columns; ++j) {
+    int brick = r.graph.stacked[sys.contact[j]].upper;
+    r.brick_capacity[brick] = std::min(r.brick_capacity[brick], kMaxFrictionLoad * (1 - s.x[j]));
+  }
+}
+
+}  // namespace
+
+const char* to_string(StabilityStatus status) {
+  switch (status) {
+    case StabilityStatus::Solved:
+      return "solved";
+    case StabilityStatus::Empty:
+      return "empty";
+    case StabilityStatus::Floating:
+      return "floating";
+    case StabilityStatus::NoEquilibrium:
+      return "no equilibrium";
+    case StabilityStatus::IterationLimit:
+      return "iteration limit";
+    case StabilityStatus::NumericalTrouble:
+      return "numerical trouble";
+  }
+  return "?";
+}
+
+StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) {
+  StabilityResult r;
+  auto start = std::chrono::steady_clock::now();
+  r.graph = ContactGraph::build(a, o.ground);
+  r.connectivity = analyze_connectivity(int(a.bricks.size()), r.graph);
+  r.stats.graph_seconds = seconds_since(start);
+  if (a.bricks.empty()) return r;
+  if (!r.connectivity.all_grounded()) {
+    r.status = StabilityStatus::Floating;
+    return r;
+  }
+  start = std::chrono::steady_clock::now();
+  EquilibriumSystem sys = build_equilibrium(a, r.graph);
+  r.stats.build_seconds = seconds_since(start);
+  start = std::chrono::steady_clock::now();
+  if (o.form == LpForm::Scaled)
+    solve_scaled(sys, o, r);
+  else
+    solve_max_min(sys, o, r);
+  r.stats.solve_seconds = seconds_since(start);
+  if (o.brick_capacity && r.status == StabilityStatus::Solved) {
+    start = std::chrono::steady_clock::now();
+    brick_capacity(a, sys, o, r);
+    r.stats.capacity_seconds = seconds_since(start);
+  }
+  return r;
+}
+
+}  // namespace lego::physics

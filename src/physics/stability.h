@@ -1,0 +1,75 @@
+#pragma once
+#include <string>
+#include <vector>
+
+#include "core/assembly.h"
+#include "physics/connectivity.h"
+#include "physics/contact_graph.h"
+#include "physics/force_model.h"
+
+namespace lego::physics {
+
+enum class StabilityStatus {
+  Solved,            // C_M is a number (stable when > 0)
+  Empty,             // no bricks
+  Floating,          // a component does not touch the ground: no LP (PHYSICS.md)
+  NoEquilibrium,     // connected, but no forces balance it (C_M = -inf)
+  IterationLimit,    // the solver stopped on its iteration or time limit
+  NumericalTrouble,  // the solver failed; no number is given
+};
+const char* to_string(StabilityStatus status);
+
+// How the LP of PHYSICS.md is posed to Clp (docs/stability-lp.md has the measurements).
+enum class LpForm {
+  // max w s.t. A·ξ − (b/T)·w = 0, 0 ≤ ξ_friction ≤ 1; then C_M = T·(1 − 1/w*). Six rows per
+  // brick; equivalent to MaxMin (scale the forces by w = T/max f).
+  Scaled,
+  // max t s.t. t + f_i ≤ T for every friction point, A·x = b: the LP as PHYSICS.md writes it.
+  MaxMin,
+};
+enum class LpMethod { DualSimplex, PrimalSimplex, Barrier, BarrierNoCrossover };
+
+struct StabilityOptions {
+  GroundMode ground = GroundMode::Baseplate;
+  LpForm form = LpForm::Scaled;
+  LpMethod method = LpMethod::DualSimplex;
+  bool presolve = true;
+  bool scaling = true;
+  bool brick_capacity = false;  // also compute the per-brick capacity (a QP; for heat maps)
+  double max_seconds = 3600;
+};
+
+// A pair of bricks whose friction points bind at the optimum, with its share of the duals.
+struct WeakContact {
+  int contact = 0;  // index into ContactGraph::stacked
+  int lower = kGround, upper = 0;
+  double share = 0;  // of the sum of all binding duals, 0..1
+};
+
+struct LpStats {
+  int rows = 0, columns = 0, nonzeros = 0;
+  int iterations = 0;
+  double graph_seconds = 0, build_seconds = 0, solve_seconds = 0, capacity_seconds = 0;
+};
+
+struct StabilityResult {
+  StabilityStatus status = StabilityStatus::Empty;
+  double cm = 0;                       // C_M in g·m/s² (valid when Solved)
+  std::vector<WeakContact> weakest;    // ranked by share, largest first
+  std::vector<double> brick_capacity;  // per brick, g·m/s² (when asked for and Solved)
+  ContactGraph graph;
+  Connectivity connectivity;
+  LpStats stats;
+  std::string message;  // the solver's words when it did not solve
+
+  double cm_newton() const { return cm / 1000.0; }
+  double cm_gf() const { return cm / kGravity; }
+  bool stable(double min_cm_gf = 0) const {
+    return status == StabilityStatus::Solved && cm_gf() > min_cm_gf;
+  }
+};
+
+// The paper's force-based analysis (section 6, PHYSICS.md): connectivity first, then the LP.
+StabilityResult analyze_stability(const Assembly& assembly, const StabilityOptions& options = {});
+
+}  // namespace lego::physics

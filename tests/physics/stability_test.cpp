@@ -1,0 +1,311 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "physics/builders.h"
+#include "physics/stability.h"
+
+namespace lego::physics {
+namespace {
+
+using test::add;
+using test::kBrick;
+
+constexpr double kT = 71.658;  // T / g, grams
+
+const StackedContact& top_contact(const StabilityResult& r) {
+  return r.graph.stacked.at(r.weakest.at(0).contact);
+}
+
+TEST(Stability, SingleCantileverOfPhysicsMd) {
+  Assembly a;
+  int floor = add(a, "3622", 0, 0, 0);
+  int beam = add(a, "3008", 0, kBrick, 0);
+  for (LpForm form : {LpForm::Scaled, LpForm::MaxMin}) {
+    auto r = analyze_stability(a, {.form = form});
+    ASSERT_EQ(r.status, StabilityStatus::Solved);
+    EXPECT_NEAR(r.cm_gf(), kT - 3.08 / (4 * (2.5 + 1.5 + 0.5)), 0.005);
+    EXPECT_NEAR(r.cm_gf(), 71.487, 0.005);
+    EXPECT_NEAR(r.cm_newton(), r.cm_gf() * 9.8e-3, 1e-12);
+    EXPECT_EQ(top_contact(r).lower, floor);
+    EXPECT_EQ(top_contact(r).upper, beam);
+    EXPECT_EQ(top_contact(r).knobs, 3);
+  }
+}
+
+TEST(Stability, Figure7Bridges) {
+  double previous[2] = {1e9, 1e9};
+  double cm[2][13];
+  for (int n = 1; n <= 12; ++n) {
+    for (int v = 0; v < 2; ++v) {
+      const char variant = "ab"[v];
+      auto r = analyze_stability(test::figure7_bridge(n, variant));
+      ASSERT_EQ(r.status, StabilityStatus::Solved) << variant << n;
+      cm[v][n] = r.cm_gf();
+      if (n > 1) {
+        EXPECT_LT(cm[v][n], previous[v]) << "C_M must fall with length: " << variant << n;
+      }
+      previous[v] = cm[v][n];
+      if (n < 2) continue;
+      // Bricks: 0, 1 floor column; 2 .. n+1 the 1x8s; n+2 .. the 1x2s.
+      const auto& c = top_contact(r);
+      if (variant == 'b') {
+        EXPECT_EQ(c.lower, 1) << n;  // the floor brick ...
+        EXPECT_EQ(c.upper, 2) << n;  // ... and the first 1x8
+      }
+      if (variant == 'a') {
+        EXPECT_TRUE(c.lower == n + 2 || c.upper == n + 2) << "the first 1x2 at length " << n;
+      }
+    }
+    if (n >= 2) {
+      EXPECT_GT(cm[1][n], cm[0][n]) << "(b) beats (a) at " << n;
+    }
+  }
+  EXPECT_GT(cm[0][4], 0);
+  EXPECT_LT(cm[0][5], 0);
+  EXPECT_GT(cm[1][8], 0);
+}
+
+TEST(Stability, ColumnNeedsNoFriction) {
+  Assembly a;
+  for (int i = 0; i < 5; ++i) add(a, "3001", 0, kBrick * i, 0);
+  for (GroundMode ground : {GroundMode::Baseplate, GroundMode::Table}) {
+    auto r = analyze_stability(a, {.ground = ground});
+    ASSERT_EQ(r.status, StabilityStatus::Solved);
+    EXPECT_NEAR(r.cm_gf(), kT, 1e-9);
+    EXPECT_TRUE(r.weakest.empty());
+  }
+}
+
+TEST(Stability, HangingBrickSharesItsWeightOverFourPoints) {
+  Assembly a;
+  add(a, "3005", 0, 0, 0);
+  add(a, "3005", 0, kBrick, 0);
+  add(a, "3005", 5, 0, 0);
+  add(a, "3005", 5, kBrick, 0);
+  int beam = add(a, "3009", 0, 2 * kBrick, 0);
+  int hanging = add(a, "3005", 2, kBrick, 0);
+  auto r = analyze_stability(a, {.brick_capacity = true});
+  ASSERT_EQ(r.status, StabilityStatus::Solved);
+  EXPECT_NEAR(r.cm_gf(), kT - 0.44 / 4, 1e-6);
+  EXPECT_EQ(top_contact(r).lower, hanging);
+  EXPECT_EQ(top_contact(r).upper, beam);
+  EXPECT_EQ(top_contact(r).point_count, 4u);
+  // The beam's cavity holds the hanging brick: its capacity is C_M; the columns carry no pull.
+  ASSERT_EQ(r.brick_capacity.size(), a.bricks.size());
+  EXPECT_NEAR(r.brick_capacity[beam] / 9.8, kT - 0.11, 1e-5);
+  EXPECT_NEAR(r.brick_capacity[0] / 9.8, kT, 1e-5);
+}
+
+TEST(Stability, FloatingBrickIsReportedWithoutAnLp) {
+  Assembly a;
+  add(a, "3001", 0, 0, 0);
+  int floating = add(a, "3001", 10, 2 * kBrick, 0);
+  auto r = analyze_stability(a);
+  EXPECT_EQ(r.status, StabilityStatus::Floating);
+  ASSERT_EQ(r.connectivity.floating.size(), 1u);
+  EXPECT_EQ(r.connectivity.floating[0], floating);
+  EXPECT_EQ(r.connectivity.component_count, 2);
+  EXPECT_EQ(r.stats.rows, 0);
+  EXPECT_FALSE(r.stable());
+}
+
+TEST(Stability, TwoTowersJoinedByOneBrick) {
+  Assembly a;
+  for (int i = 0; i < 3; ++i) {
+    add(a, "3003", 0, kBrick * i, 0);
+    add(a, "3003", 4, kBrick * i, 0);
+  }
+  auto apart = analyze_stability(a);
+  EXPECT_EQ(apart.connectivity.component_count, 2);
+  EXPECT_TRUE(apart.connectivity.all_grounded());
+  add(a, "3007", -1, 3 * kBrick, 0, false);  // a 2x8 over both towers
+  auto joined = analyze_stability(a);
+  EXPECT_EQ(joined.connectivity.component_count, 1);
+  ASSERT_EQ(joined.status, StabilityStatus::Solved);
+  EXPECT_GT(joined.cm_gf(), 71.0);
+  EXPECT_LE(joined.cm_gf(), kT + 1e-9);
+}
+
+TEST(Stability, BrickHeldByOneCornerKnob) {
+  Assembly a;
+  add(a, "3005", 0, 0, 0);
+  add(a, "3005", 0, kBrick, 0);
+  add(a, "3001", 0, 2 * kBrick, 0);
+  auto base = analyze_stability(a);
+  ASSERT_EQ(base.status, StabilityStatus::Solved);
+  EXPECT_NEAR(base.cm_gf(), 70.3, 0.05);
+  for (LpForm form : {LpForm::Scaled, LpForm::MaxMin}) {
+    auto table = analyze_stability(a, {.ground = GroundMode::Table, .form = form});
+    EXPECT_EQ(table.status, StabilityStatus::NoEquilibrium) << to_string(table.status);
+    EXPECT_FALSE(table.stable());
+  }
+}
+
+// Rotations about the vertical and mirror images of the lattice.
+Assembly transformed(const Assembly& a, int quarter_turns, bool mirror) {
+  Assembly out = a;
+  for (Brick& b : out.bricks) {
+    if (mirror) b.min.x = -b.max_x();
+    for (int k = 0; k < quarter_turns; ++k) {
+      Brick r = b;
+      r.rotated = !b.rotated;
+      r.min.x = -b.max_z();
+      r.min.z = b.min.x;
+      b = r;
+    }
+  }
+  return out;
+}
+
+Assembly asymmetric_model() {
+  Assembly a = test::figure7_bridge(3, 'a');
+  add(a, "3001", 0, 3 * kBrick, 0, true);  // turned 2x4 over the floor, sticking out in z
+  add(a, "3003", 0, 4 * kBrick, 2);
+  add(a, "3004", 12, 3 * kBrick, 0);
+  return a;
+}
+
+TEST(Stability, InvariantUnderRotationMirrorAndOrder) {
+  Assembly a = asymmetric_model();
+  auto reference = analyze_stability(a);
+  ASSERT_EQ(reference.status, StabilityStatus::Solved);
+  for (int turns = 0; turns < 4; ++turns)
+    for (bool mirror : {false, true}) {
+      auto r = analyze_stability(transformed(a, turns, mirror));
+      ASSERT_EQ(r.status, StabilityStatus::Solved);
+      EXPECT_NEAR(r.cm, reference.cm, 1e-6 * std::abs(reference.cm)) << turns << mirror;
+    }
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 3; ++trial) {
+    Assembly shuffled = a;
+    std::shuffle(shuffled.bricks.begin(), shuffled.bricks.end(), rng);
+    EXPECT_NEAR(analyze_stability(shuffled).cm, reference.cm, 1e-6 * std::abs(reference.cm));
+  }
+}
+
+TEST(Stability, WeightOnTheTipCostsItsMoment) {
+  Assembly a;
+  add(a, "3622", 0, 0, 0);
+  int beam = add(a, "3008", 0, kBrick, 0);
+  const double grams = 10;
+  // On the last knob of the beam: 4.5 studs past the edge of the floor brick.
+  a.loads.push_back({beam, {0, -grams * 1e-3 * 9.8, 0}, false, {7.5, 2.0 * kBrick, 0.5}});
+  auto r = analyze_stability(a);
+  ASSERT_EQ(r.status, StabilityStatus::Solved);
+  EXPECT_NEAR(r.cm_gf(), kT - (3.08 * 1 + grams * 4.5) / (4 * 4.5), 1e-6);
+  // Spread over the top knobs: the centre of the knobs is the brick's centre, 1 stud out.
+  a.loads.back().spread_over_top_knobs = true;
+  EXPECT_NEAR(analyze_stability(a).cm_gf(), kT - (3.08 + grams) / 18, 1e-6);
+}
+
+// Towers that narrow upwards (each brick inside the footprint of the one below, so every knob
+// under it is engaged and every centre of mass is over its support) need no friction.
+TEST(StabilityProperty, NarrowingTowersAreStableWithoutFriction) {
+  const auto& types = BrickCatalog::standard().types();
+  std::mt19937 rng(42);
+  for (int trial = 0; trial < 30; ++trial) {
+    Assembly a;
+    Brick first;
+    first.type = &types[rng() % 11];  // bricks
+    first.min = {0, 0, 0};
+    a.bricks.push_back(first);
+    for (int level = 1; level < 6; ++level) {
+      const Brick& below = a.bricks.back();
+      std::vector<Brick> fits;
+      for (const auto& t : types)
+        for (bool rot : {false, true}) {
+          Brick b;
+          b.type = &t;
+          b.min.y = below.top();
+          b.rotated = rot;
+          if (b.size_x() > below.size_x() || b.size_z() > below.size_z()) continue;
+          b.min.x = below.min.x + int(rng() % (below.size_x() - b.size_x() + 1));
+          b.min.z = below.min.z + int(rng() % (below.size_z() - b.size_z() + 1));
+          fits.push_back(b);
+        }
+      a.bricks.push_back(fits[rng() % fits.size()]);
+    }
+    for (GroundMode ground : {GroundMode::Baseplate, GroundMode::Table}) {
+      auto r = analyze_stability(a, {.ground = ground});
+      ASSERT_EQ(r.status, StabilityStatus::Solved) << trial;
+      EXPECT_NEAR(r.cm_gf(), kT, 1e-6) << trial;
+      EXPECT_EQ(r.connectivity.component_count, 1);
+    }
+    // Lift the top brick off its support: it floats.
+    a.bricks.back().min.y += 1;
+    EXPECT_EQ(analyze_stability(a).status, StabilityStatus::Floating);
+  }
+}
+
+// Both LP forms are the same problem: on random stacks they give the same C_M.
+TEST(StabilityProperty, ScaledAndMaxMinFormsAgree) {
+  const auto& types = BrickCatalog::standard().types();
+  std::mt19937 rng(7);
+  int compared = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    Assembly a;
+    for (int level = 0; level < 5; ++level) {
+      Brick b;
+      b.type = &types[rng() % 11];
+      b.rotated = rng() % 2;
+      b.min.y = kBrick * level;
+      if (level > 0) {  // overlap the brick below by at least one stud on each axis
+        const Brick& below = a.bricks.back();
+        b.min.x = below.min.x - b.size_x() + 1 + int(rng() % (below.size_x() + b.size_x() - 1));
+        b.min.z = below.min.z - b.size_z() + 1 + int(rng() % (below.size_z() + b.size_z() - 1));
+      }
+      a.bricks.push_back(b);
+    }
+    auto s = analyze_stability(a, {.form = LpForm::Scaled});
+    auto m = analyze_stability(a, {.form = LpForm::MaxMin});
+    ASSERT_EQ(s.status, m.status) << trial;
+    if (s.status != StabilityStatus::Solved) continue;
+    ++compared;
+    EXPECT_NEAR(s.cm, m.cm, 1e-6 * std::max(1.0, std::abs(m.cm))) << trial;
+  }
+  EXPECT_GT(compared, 5);
+}
+
+TEST(ContactGraph, FrictionPointsFollowTheCavityShape) {
+  Assembly a;
+  add(a, "3004", 0, 0, 0);        // 1x2
+  add(a, "3004", 0, kBrick, 0);   // 1x2 on it: 2 knobs x 4 points
+  add(a, "3003", 10, 0, 0);       // 2x2
+  add(a, "3003", 10, kBrick, 0);  // 2x2 on it: 4 knobs x 3 points
+  add(a, "3001", 20, 0, 0);       // 2x4 and a 2x4 over it, shifted by a stud:
+  add(a, "3001", 21, kBrick, 0);  // 6 knobs x 3 points
+  auto g = ContactGraph::build(a, GroundMode::Baseplate);
+  std::vector<int> points_by_upper(a.bricks.size(), -1);
+  for (const auto& c : g.stacked) {
+    if (c.lower != kGround) points_by_upper[c.upper] = int(c.point_count);
+  }
+  EXPECT_EQ(points_by_upper[1], 8);
+  EXPECT_EQ(points_by_upper[3], 12);
+  EXPECT_EQ(points_by_upper[5], 18);
+  auto table = ContactGraph::build(a, GroundMode::Table);
+  for (const auto& c : table.stacked) {
+    if (c.lower == kGround) {
+      EXPECT_EQ(c.point_count, 0u);
+    }
+  }
+}
+
+TEST(ContactGraph, SideContactsAndOverlaps) {
+  Assembly a;
+  add(a, "3001", 0, 0, 0);
+  add(a, "3001", 4, 0, 0);  // touches the first along x = 4
+  add(a, "3001", 0, 0, 2);  // touches the first along z = 2
+  add(a, "3001", 0, 0, 0);  // coincides with the first
+  auto g = ContactGraph::build(a, GroundMode::Baseplate);
+  ASSERT_EQ(g.overlaps.size(), 1u);
+  EXPECT_EQ(g.overlaps[0], std::make_pair(0, 3));
+  int x_sides = 0, z_sides = 0;
+  for (const auto& s : g.sides) (s.axis == 0 ? x_sides : z_sides)++;
+  EXPECT_GE(x_sides, 1);
+  EXPECT_GE(z_sides, 1);
+}
+
+}  // namespace
+}  // namespace lego::physics
