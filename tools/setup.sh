@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake pkg-config
   libassimp-dev libeigen3-dev coinor-libclp-dev libfmt-dev libcli11-dev libgtest-dev
-  nlohmann-json3-dev
+  nlohmann-json3-dev libstb-dev
   leocad xvfb xauth   # real clients for rendering tests
 )
 missing=()

@@ -1,0 +1,156 @@
+// brickcheck: audits LDraw models for connectivity and stability (paper section 6).
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "core/error.h"
+#include "ldraw/writer.h"
+#include "report/audit.h"
+#include "report/render.h"
+
+namespace fs = std::filesystem;
+using namespace lego;
+
+namespace {
+
+enum Exit { kStable = 0, kUnstable = 1, kBadInput = 2, kUnanalysed = 3, kUndecided = 4 };
+
+constexpr const char* kExitCodes = R"(Exit codes:
+  0  every file is stable and connected
+  1  a file is unstable, has floating bricks, has no equilibrium, or a build step falls (--steps)
+  2  usage error, or a file cannot be read or analysed (missing, a directory, not text, no parts,
+     a malformed type-1 line)
+  3  --strict was given and a file holds parts that could not be analysed as bricks
+  4  the solver could not decide (iteration limit or numerical trouble)
+When files differ, the highest of 2, 1, 4, 3 in that order wins.)";
+
+fs::path heatmap_path(const fs::path& out, const fs::path& input, bool several) {
+  if (!several) return out;
+  return out.parent_path() /
+         (out.stem().string() + "-" + input.stem().string() + out.extension().string());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"brickcheck: check LDraw models (.ldr, .mpd) for connectivity and stability"};
+  app.footer(kExitCodes);
+  std::vector<std::string> files;
+  std::string ldraw_dir, ground = "baseplate", heatmap, main_model;
+  std::vector<std::string> load_texts;
+  double min_cm = 0;
+  bool json = false, steps = false, quiet = false, strict = false;
+  app.add_option("files", files, "LDraw models to check")->required();
+  app.add_option("--ldraw-dir", ldraw_dir,
+                 "LDraw library for parts we do not ship (default: $LDRAWDIR)");
+  app.add_option("--ground", ground, "baseplate: the ground holds knobs; table: it only pushes")
+      ->check(CLI::IsMember({"baseplate", "table"}));
+  app.add_option(
+      "--load", load_texts,
+      "external weight: LINE=GRAMS or FILE:LINE=GRAMS (a brick's top knobs), step:K=GRAMS, "
+      "submodel:NAME=GRAMS (spread over their top knobs)");
+  app.add_option("--min-cm", min_cm, "stability threshold for C_M in grams-force (default 0)");
+  app.add_option("--main", main_model, "the MPD model to check instead of the first FILE");
+  app.add_flag("--json", json, "print JSON on stdout (docs/brickcheck-json.md)");
+  app.add_option("--heatmap", heatmap,
+                 "write the model coloured by per-brick capacity to this .ldr");
+  app.add_flag("--steps", steps, "check the model after every build step");
+  app.add_flag("--quiet", quiet, "print only the verdict line of each file");
+  app.add_flag("--strict", strict, "exit 3 when parts could not be analysed");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int code = app.exit(e);
+    return code == 0 ? 0 : kBadInput;
+  }
+
+  report::AuditOptions options;
+  if (!ldraw_dir.empty())
+    options.read.library_dirs = {ldraw_dir};
+  else
+    options.read.library_dirs = ldraw::library_dirs_from_env();
+  if (!main_model.empty()) options.read.main_model = main_model;
+  options.stability.ground =
+      ground == "table" ? physics::GroundMode::Table : physics::GroundMode::Baseplate;
+  options.min_cm_gf = min_cm;
+  options.steps = steps;
+  options.brick_capacity = !heatmap.empty();
+  try {
+    for (const auto& t : load_texts) options.loads.push_back(report::parse_load_spec(t));
+  } catch (const InputError& e) {
+    std::cerr << "brickcheck: " << e.what() << "\n";
+    return kBadInput;
+  }
+  if (!heatmap.empty()) {
+    for (const auto& f : files) {
+      std::error_code ec;
+      if (fs::equivalent(f, heatmap_path(heatmap, f, files.size() > 1), ec)) {
+        std::cerr << "brickcheck: --heatmap " << heatmap << " would overwrite the input " << f
+                  << "\n";
+        return kBadInput;
+      }
+    }
+  }
+
+  int worst = kStable;
+  auto rank = [](int code) {
+    return code == kBadInput     ? 4
+           : code == kUnstable   ? 3
+           : code == kUndecided  ? 2
+           : code == kUnanalysed ? 1
+                                 : 0;
+  };
+  nlohmann::json all = nlohmann::json::array();
+  for (const auto& file : files) {
+    report::Audit audit;
+    int code = kStable;
+    try {
+      audit = report::audit_file(file, options);
+    } catch (const InputError& e) {
+      audit.file = file;
+      audit.verdict = report::Verdict::Unreadable;
+      audit.fatal = e.what();
+    }
+    switch (audit.verdict) {
+      case report::Verdict::Stable:
+        code = kStable;
+        break;
+      case report::Verdict::Unstable:
+        code = kUnstable;
+        break;
+      case report::Verdict::Undecided:
+        code = kUndecided;
+        break;
+      case report::Verdict::Unreadable:
+        code = kBadInput;
+        break;
+      case report::Verdict::NothingToAnalyse:
+        code = kStable;
+        break;
+    }
+    if (strict && code == kStable && !audit.conversion.skipped.empty()) code = kUnanalysed;
+    if (rank(code) > rank(worst)) worst = code;
+
+    if (json)
+      all.push_back(report::render_json(audit, options));
+    else
+      std::cout << report::render_text(audit, quiet);
+    if (audit.verdict == report::Verdict::Unreadable && json) std::cerr << audit.fatal << "\n";
+
+    if (!heatmap.empty() && audit.verdict != report::Verdict::Unreadable &&
+        audit.verdict != report::Verdict::NothingToAnalyse) {
+      fs::path out = heatmap_path(heatmap, file, files.size() > 1);
+      try {
+        ldraw::write_file_atomically(out, report::render_heatmap(audit));
+        if (!quiet && !json) std::cout << "  heat map: " << out.string() << "\n";
+      } catch (const InputError& e) {
+        std::cerr << "brickcheck: " << e.what() << "\n";
+        if (rank(kBadInput) > rank(worst)) worst = kBadInput;
+      }
+    }
+  }
+  if (json) std::cout << (files.size() == 1 ? all[0] : all).dump(2) << "\n";
+  return worst;
+}

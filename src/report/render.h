@@ -1,0 +1,24 @@
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "report/audit.h"
+
+namespace lego::report {
+
+// What a builder reads: parts, connectivity, stability, steps, timing. `quiet` keeps only the
+// verdict line and errors.
+std::string render_text(const Audit& audit, bool quiet);
+
+// The object documented in docs/brickcheck-json.md.
+nlohmann::json render_json(const Audit& audit, const AuditOptions& options);
+
+// The model re-coloured by per-brick capacity (red, orange, yellow, green), with `0 //` comments
+// naming the weakest contacts. Needs Audit::stability.brick_capacity.
+std::string render_heatmap(const Audit& audit);
+
+// The LDraw colour code a heat map gives a brick of this capacity (g·m/s²).
+int heat_color(double capacity);
+
+}  // namespace lego::report

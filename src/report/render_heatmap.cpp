@@ -1,0 +1,47 @@
+#include <fmt/format.h>
+
+#include "ldraw/writer.h"
+#include "physics/force_model.h"
+#include "report/render.h"
+
+namespace lego::report {
+
+int heat_color(double capacity) {
+  // Fractions of T, from no capacity left (red) to untouched (green).
+  const double f = capacity / physics::kMaxFrictionLoad;
+  if (f <= 0) return 4;     // Red: overloaded
+  if (f < 0.25) return 25;  // Orange
+  if (f < 0.5) return 191;  // Bright Light Orange
+  if (f < 0.75) return 14;  // Yellow
+  if (f < 0.95) return 27;  // Lime
+  return 2;                 // Green
+}
+
+std::string render_heatmap(const Audit& a) {
+  Assembly coloured = a.conversion.assembly;
+  const auto& capacity = a.stability.brick_capacity;
+  for (size_t i = 0; i < coloured.bricks.size(); ++i)
+    coloured.bricks[i].color = i < capacity.size() ? heat_color(capacity[i]) : 71;
+  ldraw::WriteOptions w;
+  w.title = "Stability heat map of " + (a.model.title.empty() ? a.file : a.model.title);
+  w.name = "heatmap.ldr";
+  w.author = "brickcheck";
+  w.steps = false;
+  std::string body = ldraw::to_ldr(coloured, w);
+  std::string notes =
+      "0 // Colours: red = no capacity left, orange < 25%, light orange < 50%, yellow < 75%,\n"
+      "0 // lime < 95%, green = at least 95% of the friction limit T left; grey = not computed.\n";
+  if (a.stability.status == physics::StabilityStatus::Solved)
+    notes += fmt::format("0 // C_M = {:.3f} gf\n", a.stability.cm_gf());
+  for (size_t i = 0; i < a.stability.weakest.size() && i < 5; ++i) {
+    const auto& wk = a.stability.weakest[i];
+    notes += fmt::format("0 // weakest {}: {} holding {} ({:.1f}% of the binding duals)\n", i + 1,
+                         describe_brick(a, wk.lower), describe_brick(a, wk.upper), 100 * wk.share);
+  }
+  // After the header (five lines and a blank), before the bricks.
+  size_t at = 0;
+  for (int k = 0; k < 5; ++k) at = body.find('\n', at) + 1;
+  return body.insert(at, notes);
+}
+
+}  // namespace lego::report

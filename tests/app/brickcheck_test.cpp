@@ -1,0 +1,260 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "app/run_tool.h"
+#include "ldraw/reader.h"
+#include "report/render.h"
+#include "test_paths.h"
+
+namespace lego {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::run_tool;
+
+fs::path bridge(char variant, int n) {
+  char name[32];
+  std::snprintf(name, sizeof name, "bridge-%c-%02d.ldr", variant, n);
+  return test::data_dir() / "bridges" / name;
+}
+
+json check_json(const std::vector<std::string>& args, int expected_exit) {
+  std::vector<std::string> all = {"--json"};
+  all.insert(all.end(), args.begin(), args.end());
+  auto run = run_tool("brickcheck", all);
+  EXPECT_EQ(run.exit_code, expected_exit) << run.out << run.err;
+  return json::parse(run.out);
+}
+
+fs::path scratch(const std::string& name) {
+  auto dir = fs::temp_directory_path() / "lego_brickcheck_test";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+TEST(Brickcheck, Figure7BridgesThroughTheCommandLine) {
+  double previous[2] = {1e9, 1e9};
+  for (int n = 1; n <= 12; ++n)
+    for (int v = 0; v < 2; ++v) {
+      char variant = "ab"[v];
+      bool expect_stable = variant == 'a' ? n <= 4 : n <= 9;
+      json j = check_json({bridge(variant, n).string()}, expect_stable ? 0 : 1);
+      EXPECT_EQ(j["stable"], expect_stable) << variant << n;
+      EXPECT_EQ(j["bricks"], 2 + n + (n - 1));  // floor column, 1x8s, 1x2s
+      double cm = j["cm_gf"];
+      EXPECT_LT(cm, previous[v]);
+      previous[v] = cm;
+      if (n == 8 && variant == 'b') {
+        // The bottleneck: the floor brick holding the first 1x8, named by file and line.
+        EXPECT_EQ(j["weakest"][0]["a"]["line"], 7);
+        EXPECT_EQ(j["weakest"][0]["a"]["part"], "3622");
+        EXPECT_EQ(j["weakest"][0]["b"]["line"], 8);
+        EXPECT_EQ(j["weakest"][0]["b"]["part"], "3008");
+        EXPECT_GT(j["weakest"][0]["dual"].get<double>(), 0.5);
+      }
+    }
+  auto text = run_tool("brickcheck", {bridge('a', 5).string()});
+  EXPECT_NE(text.out.find("UNSTABLE: C_M = -53.342 gf"), std::string::npos) << text.out;
+}
+
+TEST(Brickcheck, JsonSchemaFields) {
+  json j = check_json({bridge('b', 3).string()}, 0);
+  for (const char* key : {"file", "parts", "bricks", "skipped", "components", "floating", "ground",
+                          "stable", "cm_newton", "cm_gf", "weakest", "timing"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["ground"], "baseplate");
+  EXPECT_EQ(j["components"], 1);
+  EXPECT_NEAR(j["cm_newton"].get<double>(), j["cm_gf"].get<double>() * 9.8e-3, 1e-9);
+  for (const char* key : {"file", "line", "part", "color"})
+    EXPECT_TRUE(j["weakest"][0]["b"].contains(key)) << key;
+  EXPECT_FALSE(j.contains("steps"));
+  json several = check_json({bridge('b', 3).string(), bridge('a', 6).string()}, 1);
+  ASSERT_TRUE(several.is_array());
+  EXPECT_EQ(several.size(), 2u);
+}
+
+TEST(Brickcheck, StepsCatchTheArchBeforeItsKeystone) {
+  auto arch = (test::data_dir() / "arch-keystone.ldr").string();
+  json finished = check_json({arch}, 0);
+  EXPECT_TRUE(finished["stable"]);
+  json steps = check_json({"--steps", arch}, 1);
+  EXPECT_FALSE(steps["stable"]);
+  EXPECT_EQ(steps["first_failing_step"], 6);
+  ASSERT_EQ(steps["steps"].size(), 7u);
+  EXPECT_EQ(steps["steps"][0]["step"], 1);
+  EXPECT_TRUE(steps["steps"][4]["stable"]);
+  EXPECT_FALSE(steps["steps"][5]["stable"]);
+  EXPECT_TRUE(steps["steps"][6]["stable"]);
+  EXPECT_EQ(steps["steps"][6]["bricks"], 15);
+}
+
+TEST(Brickcheck, GroundThresholdAndLoads) {
+  // A 2x4 held by one corner knob on a column of two 1x1 bricks.
+  auto path = scratch("corner.ldr");
+  std::ofstream(path) << "0 corner\n1 4 10 -24 10 1 0 0 0 1 0 0 0 1 3005.dat\n1 4 10 -48 10 1 0 0 "
+                         "0 1 0 0 0 1 3005.dat\n"
+                         "1 1 40 -72 20 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  EXPECT_EQ(check_json({path.string()}, 0)["stable"], true);
+  json table = check_json({"--ground", "table", path.string()}, 1);
+  EXPECT_EQ(table["status"], "no equilibrium");
+  EXPECT_TRUE(table["cm_gf"].is_null());
+  EXPECT_EQ(check_json({"--min-cm", "71", path.string()}, 1)["stable"], false);
+  // 10 g on the beam's top knobs costs (3.08 + 10) / 18 g of capacity.
+  json loaded = check_json({"--load", "8=10", bridge('b', 1).string()}, 0);
+  EXPECT_NEAR(loaded["cm_gf"].get<double>(), 71.658 - (3.08 + 10) / 18, 1e-6);
+  json by_step = check_json({"--load", "step:1=10", bridge('b', 1).string()}, 0);
+  EXPECT_LT(by_step["cm_gf"].get<double>(), 71.487);
+  auto bad = run_tool("brickcheck", {"--load", "heavy", bridge('b', 1).string()});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("expected LINE=GRAMS"), std::string::npos);
+  auto nowhere = run_tool("brickcheck", {"--load", "99=10", bridge('b', 1).string()});
+  EXPECT_EQ(nowhere.exit_code, 2);
+  EXPECT_NE(nowhere.out.find("names no analysed brick"), std::string::npos) << nowhere.out;
+}
+
+TEST(Brickcheck, BadInputGetsClearMessagesAndExitCodes) {
+  auto empty = scratch("empty.ldr");
+  std::ofstream(empty) << "0 Nothing here\n0 Name: empty.ldr\n";
+  auto unknown = scratch("unknown.ldr");
+  std::ofstream(unknown) << "0 Minifig heads\n1 14 0 0 0 1 0 0 0 1 0 0 0 1 3626b.dat\n";
+  auto malformed = scratch("malformed.ldr");
+  std::ofstream(malformed)
+      << "0 m\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n1 4 0 0 0 1 0 0 0 1 0 0\n";
+  auto binary = scratch("binary.ldr");
+  std::ofstream(binary, std::ios::binary) << std::string("1 4 0 0\0\0\x7f", 10);
+  auto good = bridge('b', 2).string();
+
+  auto run = run_tool("brickcheck", {empty.string()});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.out.find("no part in the model"), std::string::npos) << run.out;
+  run = run_tool("brickcheck", {unknown.string()});
+  EXPECT_EQ(run.exit_code, 0);
+  EXPECT_NE(run.out.find("NOTHING TO ANALYSE"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find(unknown.string() + ":2 3626b.dat: unknown part"), std::string::npos)
+      << run.out;
+  EXPECT_EQ(run_tool("brickcheck", {"--strict", unknown.string()}).exit_code, 3);
+  run = run_tool("brickcheck", {malformed.string()});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.out.find("malformed.ldr:3: error: malformed type-1 line"), std::string::npos)
+      << run.out;
+  run = run_tool("brickcheck", {binary.string()});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.out.find("not a text file"), std::string::npos);
+  run = run_tool("brickcheck", {fs::temp_directory_path().string()});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.out.find("is a directory"), std::string::npos);
+  // A missing file among several: the others are still checked.
+  run =
+      run_tool("brickcheck", {"--quiet", good, "/nonexistent/model.ldr", bridge('a', 6).string()});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.out.find(good + ": STABLE"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("/nonexistent/model.ldr: UNREADABLE"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("bridge-a-06.ldr: UNSTABLE"), std::string::npos) << run.out;
+  EXPECT_EQ(run_tool("brickcheck", {}).exit_code, 2);
+  EXPECT_EQ(run_tool("brickcheck", {"--ground", "moon", good}).exit_code, 2);
+  EXPECT_EQ(run_tool("brickcheck", {"--help"}).exit_code, 0);
+  EXPECT_NE(run_tool("brickcheck", {"--help"}).out.find("Exit codes"), std::string::npos);
+}
+
+TEST(Brickcheck, FiftyThousandPartsInSeconds) {
+  // 50,000 plates in a grid of loose stacks two high: connectivity only, no LP.
+  auto path = scratch("fifty-thousand.ldr");
+  {
+    std::ofstream out(path);
+    out << "0 Fifty thousand plates\n";
+    for (int i = 0; i < 25000; ++i) {
+      int x = (i % 250) * 40, z = (i / 250) * 40;
+      out << "1 4 " << x << " -8 " << z << " 1 0 0 0 1 0 0 0 1 3024.dat\n";
+      out << "1 4 " << x << " -24 " << z << " 1 0 0 0 1 0 0 0 1 3024.dat\n";  // a plate above a gap
+    }
+  }
+  auto start = std::chrono::steady_clock::now();
+  json j = check_json({path.string()}, 1);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(j["parts"], 50000);
+  EXPECT_EQ(j["floating"].size(), 25000u);
+  RecordProperty("seconds", std::to_string(seconds));
+}
+
+TEST(Brickcheck, HeatMapIsAnLDrawFileColouredByCapacity) {
+  auto out = scratch("heat.ldr");
+  fs::remove(out);
+  auto run = run_tool("brickcheck", {"--heatmap", out.string(), bridge('a', 4).string()});
+  EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
+  ldraw::Model m = ldraw::read_file(out);
+  EXPECT_FALSE(m.has_errors());
+  ASSERT_EQ(m.parts.size(), 9u);
+  std::set<int> colors;
+  for (const auto& p : m.parts) colors.insert(p.color);
+  EXPECT_GE(colors.size(), 2u);  // the overloaded first joint differs from the quiet floor
+  std::ifstream in(out);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(text.find("0 // weakest 1:"), std::string::npos);
+  // Never overwrite what the user gave us.
+  auto input = scratch("input.ldr");
+  fs::copy_file(bridge('a', 2), input, fs::copy_options::overwrite_existing);
+  EXPECT_EQ(run_tool("brickcheck", {"--heatmap", input.string(), input.string()}).exit_code, 2);
+}
+
+TEST(Brickcheck, HeatColourScale) {
+  EXPECT_EQ(report::heat_color(-5), 4);
+  EXPECT_EQ(report::heat_color(0.1 * 71.658 * 9.8), 25);
+  EXPECT_EQ(report::heat_color(71.658 * 9.8), 2);
+}
+
+struct SharedExpectation {
+  const char* file;
+  int bricks, skipped, components, floating;
+  int exit_code;
+};
+void PrintTo(const SharedExpectation& e, std::ostream* os) {
+  *os << e.file;
+}
+class BrickcheckShared : public testing::TestWithParam<SharedExpectation> {};
+
+// What brickcheck says about each real model. Most hold parts outside the catalog, so bricks
+// that rest on them are reported floating: the verdict covers only the analysed bricks.
+TEST_P(BrickcheckShared, PinsWhatItSays) {
+  SKIP_WITHOUT_SHARED();
+  const auto& e = GetParam();
+  json j = check_json({(test::shared_dir() / "ldraw-models" / e.file).string()}, e.exit_code);
+  EXPECT_EQ(j["bricks"], e.bricks);
+  EXPECT_EQ(j["skipped"].size(), size_t(e.skipped));
+  EXPECT_EQ(j["components"], e.components);
+  EXPECT_EQ(j["floating"].size(), size_t(e.floating));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Real, BrickcheckShared,
+    testing::Values(SharedExpectation{"car.ldr", 31, 30, 11, 8, 1},
+                    SharedExpectation{"car.ldr_Packed.mpd", 31, 30, 11, 8, 1},
+                    SharedExpectation{"30023-1-Lighthouse.ldr", 1, 24, 1, 0, 0},
+                    SharedExpectation{"889-1-RadarTruck.mpd", 6, 29, 2, 1, 1},
+                    SharedExpectation{"4838-1-MiniVehicles.mpd", 14, 65, 3, 2, 1},
+                    SharedExpectation{"4915-1-MiniConstruction.mpd", 8, 59, 2, 6, 1},
+                    SharedExpectation{"5935-1-IslandHopper.mpd", 42, 161, 20, 27, 1},
+                    SharedExpectation{"1621-1-LunarMPVVehicle.mpd", 4, 100, 4, 2, 1},
+                    SharedExpectation{"Bulldog.mpd", 2, 7, 2, 0, 0}),
+    [](const auto& info) {
+      std::string n = info.param.file;
+      for (char& c : n)
+        if (!isalnum(static_cast<unsigned char>(c))) c = '_';
+      return n;
+    });
+
+TEST(BrickcheckSharedDetail, DuplicatedPartsAreReportedAsOverlapping) {
+  SKIP_WITHOUT_SHARED();
+  auto run = run_tool("brickcheck",
+                      {(test::shared_dir() / "ldraw-models" / "5935-1-IslandHopper.mpd").string()});
+  EXPECT_NE(
+      run.out.find("overlapping bricks: 5935-1-IslandHopper.mpd:107 3004 Red at (-110, -112, 0)"),
+      std::string::npos)
+      << run.out;
+}
+
+}  // namespace
+}  // namespace lego
