@@ -22,8 +22,10 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The equilibrium columns with the bounds of their kind; friction bounded by `friction_upper`.
-LpData equilibrium_lp(const EquilibriumSystem& sys, double friction_upper, double rhs_scale) {
+// The equilibrium columns with the bounds of their kind; friction bounded by `friction_upper`,
+// support forces by ±support_bound (free when infinite).
+LpData equilibrium_lp(const EquilibriumSystem& sys, double friction_upper, double rhs_scale,
+                      double support_bound = kInfinity) {
   LpData lp;
   lp.rows = sys.rows;
   lp.start = sys.column_start;
@@ -38,7 +40,7 @@ LpData equilibrium_lp(const EquilibriumSystem& sys, double friction_upper, doubl
         lp.col_lower.push_back(0), lp.col_upper.push_back(kInfinity);
         break;
       case ForceKind::Support:
-        lp.col_lower.push_back(-kInfinity), lp.col_upper.push_back(kInfinity);
+        lp.col_lower.push_back(-support_bound), lp.col_upper.push_back(support_bound);
         break;
     }
     lp.objective.push_back(0);
@@ -81,17 +83,33 @@ void set_failure(StabilityResult& r, const LpSolution& s) {
   r.message = s.message;
 }
 
+// True when some support force of the solution sits on its artificial bound.
+bool support_at_bound(const EquilibriumSystem& sys, const LpSolution& s, double bound) {
+  for (int j = 0; j < sys.columns(); ++j)
+    if (sys.kind[j] == ForceKind::Support && std::abs(s.x[j]) >= bound * (1 - 1e-6)) return true;
+  return false;
+}
+
 void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, StabilityResult& r) {
-  LpData lp = equilibrium_lp(sys, 1.0, 0.0);
-  std::vector<std::pair<int, double>> w_entries;
-  for (int row = 0; row < sys.rows; ++row)
-    if (sys.rhs[row] != 0) w_entries.emplace_back(row, -sys.rhs[row] / kMaxFrictionLoad);
-  lp.add_column(0, kMaxScale, -1, w_entries);
-  r.stats.rows = lp.rows;
-  r.stats.columns = lp.columns();
-  r.stats.nonzeros = int(lp.index.size());
-  LpSolution s = solve_lp(lp, o.method, o.presolve, o.scaling, o.max_seconds);
-  r.stats.iterations = s.iterations;
+  // Support forces are free in the model. Bounding them lets the barrier converge in tens of
+  // iterations instead of hundreds (the simplex is slower with them bounded, so it keeps them
+  // free); a bound the solution touches is raised and the LP solved again, so the answer stays
+  // that of the free problem.
+  LpSolution s;
+  const bool barrier = o.method == LpMethod::Barrier || o.method == LpMethod::BarrierNoCrossover;
+  for (double bound = barrier ? o.support_bound : kInfinity;; bound = bound < 1e12 ? bound * 1e3 : kInfinity) {
+    LpData lp = equilibrium_lp(sys, 1.0, 0.0, bound);
+    std::vector<std::pair<int, double>> w_entries;
+    for (int row = 0; row < sys.rows; ++row)
+      if (sys.rhs[row] != 0) w_entries.emplace_back(row, -sys.rhs[row] / kMaxFrictionLoad);
+    lp.add_column(0, kMaxScale, -1, w_entries);
+    r.stats.rows = lp.rows;
+    r.stats.columns = lp.columns();
+    r.stats.nonzeros = int(lp.index.size());
+    s = solve_lp(lp, o.method, o.presolve, o.scaling, o.max_seconds);
+    r.stats.iterations += s.iterations;
+    if (s.outcome != LpOutcome::Optimal || std::isinf(bound) || !support_at_bound(sys, s, bound)) break;
+  }
   if (s.outcome != LpOutcome::Optimal) return set_failure(r, s);  // w = 0 is always feasible
   const double w = s.x.back();
   if (w >= kMaxScale * (1 - 1e-9)) {

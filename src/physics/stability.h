@@ -32,10 +32,13 @@ enum class LpMethod { DualSimplex, PrimalSimplex, Barrier, BarrierNoCrossover };
 struct StabilityOptions {
   GroundMode ground = GroundMode::Baseplate;
   LpForm form = LpForm::Scaled;
-  LpMethod method = LpMethod::DualSimplex;
+  LpMethod method = LpMethod::BarrierNoCrossover;
   bool presolve = true;
   bool scaling = true;
   bool brick_capacity = false;  // also compute the per-brick capacity (a QP; for heat maps)
+  // Scaled form with a barrier: |support force| ≤ this (in units of the largest friction force)
+  // while solving; raised and solved again when the solution touches it.
+  double support_bound = 1e3;
   double max_seconds = 3600;
 };
 

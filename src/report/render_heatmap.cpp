@@ -7,14 +7,15 @@
 namespace lego::report {
 
 int heat_color(double capacity) {
-  // Fractions of T, from no capacity left (red) to untouched (green).
-  const double f = capacity / physics::kMaxFrictionLoad;
-  if (f <= 0) return 4;     // Red: overloaded
-  if (f < 0.25) return 25;  // Orange
-  if (f < 0.5) return 191;  // Bright Light Orange
-  if (f < 0.75) return 14;  // Yellow
-  if (f < 0.95) return 27;  // Lime
-  return 2;                 // Green
+  // The share of the friction limit T in use, on a roughly logarithmic scale: real models load
+  // their knobs to a few percent of T, and the map should still show where the load goes.
+  const double used = 1 - capacity / physics::kMaxFrictionLoad;
+  if (used >= 1) return 4;       // Red: overloaded
+  if (used >= 0.5) return 25;    // Orange
+  if (used >= 0.2) return 191;   // Bright Light Orange
+  if (used >= 0.05) return 14;   // Yellow
+  if (used >= 0.005) return 27;  // Lime
+  return 2;                      // Green: (almost) no pull
 }
 
 std::string render_heatmap(const Audit& a) {

@@ -202,9 +202,13 @@ TEST(Brickcheck, HeatMapIsAnLDrawFileColouredByCapacity) {
 }
 
 TEST(Brickcheck, HeatColourScale) {
+  const double t = 71.658 * 9.8;
   EXPECT_EQ(report::heat_color(-5), 4);
-  EXPECT_EQ(report::heat_color(0.1 * 71.658 * 9.8), 25);
-  EXPECT_EQ(report::heat_color(71.658 * 9.8), 2);
+  EXPECT_EQ(report::heat_color(0.3 * t), 25);
+  EXPECT_EQ(report::heat_color(0.7 * t), 191);
+  EXPECT_EQ(report::heat_color(0.9 * t), 14);
+  EXPECT_EQ(report::heat_color(0.99 * t), 27);
+  EXPECT_EQ(report::heat_color(t), 2);
 }
 
 struct SharedExpectation {

@@ -27,6 +27,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-scaling", no_scaling);
   app.add_option("--repeat", repeat, "runs per size; the median is printed");
   app.add_option("--max-seconds", max_seconds);
+  double support_bound = 1e3;
+  app.add_option("--support-bound", support_bound, "bound on support forces while solving (inf: free)");
   CLI11_PARSE(app, argc, argv);
 
   static const std::map<std::string, LpMethod> methods = {
@@ -40,6 +42,7 @@ int main(int argc, char** argv) {
   options.presolve = !no_presolve;
   options.scaling = !no_scaling;
   options.max_seconds = max_seconds;
+  options.support_bound = support_bound;
   for (int target : sizes) {
     Assembly a = bench::hollow_box_of(target);
     std::vector<double> solve, build, graph;
