@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "core/lattice.h"
+#include "ldraw/part_geometry.h"
 
 namespace lego::ldraw {
 namespace {
@@ -50,14 +51,37 @@ std::string orientation_problem(const Transform& t) {
 
 }  // namespace
 
-AssemblyConversion to_assembly(const Model& model, const BrickCatalog& catalog) {
+AssemblyConversion to_assembly(const Model& model, const BrickCatalog& catalog,
+                               const std::vector<std::filesystem::path>& library_dirs) {
   AssemblyConversion out;
   std::vector<Candidate> candidates;
+  std::map<std::string, std::string> not_a_brick;  // part -> why, analysed once per part
+  const PartSources sources{library_dirs, &model.embedded_parts};
+  auto type_of = [&](const PlacedPart& p, std::string& why) -> const BrickType* {
+    if (const BrickType* t = catalog.find(p.part)) return t;
+    if (const BrickType* t = out.learnt->find(p.part)) return t;
+    if (auto it = not_a_brick.find(p.part); it != not_a_brick.end()) {
+      why = it->second;
+      return nullptr;
+    }
+    if (p.definition.empty() && p.embedded_definition.empty()) {
+      why = "unknown part (not in the brick catalog; no part file found, see --ldraw-dir)";
+    } else if (auto g = read_part_geometry(p, sources, why)) {
+      if (auto type = lattice_box_type(p.part, *g, catalog, why))
+        return &out.learnt->add(std::move(*type));
+      why = "not analysable: " + why;
+    } else {
+      why = "not analysable: " + why;
+    }
+    not_a_brick[p.part] = why;
+    return nullptr;
+  };
   for (size_t i = 0; i < model.parts.size(); ++i) {
     const PlacedPart& p = model.parts[i];
-    const BrickType* type = catalog.find(p.part);
+    std::string why;
+    const BrickType* type = type_of(p, why);
     if (!type) {
-      out.skipped.push_back({i, "unknown part (not in the brick catalog)"});
+      out.skipped.push_back({i, why});
       continue;
     }
     if (auto problem = orientation_problem(p.transform); !problem.empty()) {
@@ -108,6 +132,20 @@ AssemblyConversion to_assembly(const Model& model, const BrickCatalog& catalog) 
     b.source = {p.file, p.line, p.step};
     out.assembly.bricks.push_back(b);
     out.brick_part.push_back(c.part);
+  }
+  // The ground is the lowest face of the whole model. A left-out part whose origin (by LDraw
+  // convention the top of a part) is at or below the bottom of every analysed brick reaches at
+  // least a plate lower: the analysed bricks then stand on parts we could not analyse, not on
+  // the ground.
+  if (!out.assembly.bricks.empty()) {
+    const int lowest = out.assembly.ground_level();
+    double ground = lowest;
+    for (const auto& s : out.skipped) {
+      double top =
+          std::floor((phase[1] - model.parts[s.part].transform.pos[1]) / kLduPerPlate + 1e-6);
+      if (top <= lowest) ground = std::min(ground, top - 1);
+    }
+    if (ground < lowest) out.assembly.ground_y = int(ground);
   }
   std::sort(out.skipped.begin(), out.skipped.end(),
             [](const SkippedPart& a, const SkippedPart& b) { return a.part < b.part; });

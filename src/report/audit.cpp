@@ -133,7 +133,8 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options)
     audit.fatal = fmt::format("{}: error: no part in the model", audit.file);
     return audit;
   }
-  audit.conversion = ldraw::to_assembly(audit.model, BrickCatalog::standard());
+  audit.conversion =
+      ldraw::to_assembly(audit.model, BrickCatalog::standard(), options.read.library_dirs);
   if (audit.conversion.assembly.bricks.empty()) {
     audit.verdict = Verdict::NothingToAnalyse;
     return audit;

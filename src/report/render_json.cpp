@@ -49,6 +49,16 @@ json render_json(const Audit& a, const AuditOptions& options) {
     j["skipped"].push_back(
         {{"file", p.file}, {"line", p.line}, {"part", p.part}, {"reason", s.reason}});
   }
+  j["learnt_parts"] = json::array();
+  for (const auto& t : a.conversion.learnt->types())
+    j["learnt_parts"].push_back({{"part", t.part},
+                                 {"name", t.name},
+                                 {"kind", t.kind},
+                                 {"length", t.length},
+                                 {"width", t.width},
+                                 {"height", t.height},
+                                 {"mass_g", t.mass_g},
+                                 {"mass_source", t.mass_source}});
   j["diagnostics"] = json::array();
   for (const auto& d : a.model.diagnostics)
     j["diagnostics"].push_back(

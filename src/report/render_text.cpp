@@ -37,6 +37,10 @@ std::string verdict_reason(const Audit& a) {
     case StabilityStatus::Floating:
       why = fmt::format("{} floating brick{}", r.connectivity.floating.size(),
                         r.connectivity.floating.size() == 1 ? "" : "s");
+      if (!a.conversion.skipped.empty())
+        why +=
+            fmt::format(" (they may rest on the {} part{} left out)", a.conversion.skipped.size(),
+                        a.conversion.skipped.size() == 1 ? "" : "s");
       break;
     case StabilityStatus::NoEquilibrium:
       why = "no equilibrium: no set of forces holds it up";
@@ -67,6 +71,11 @@ std::string render_text(const Audit& a, bool quiet) {
   const auto& parts = a.model.parts;
   line(fmt::format("  parts: {} placed, {} analysed as bricks, {} left out", parts.size(),
                    a.conversion.assembly.bricks.size(), a.conversion.skipped.size()));
+  for (const auto& t : a.conversion.learnt->types())
+    line(
+        fmt::format("    analysed from its part file: {} {} ({} x {} studs, {} plates high, {}; "
+                    "mass {:.2f} g {})",
+                    t.part, t.name, t.length, t.width, t.height, t.kind, t.mass_g, t.mass_source));
   for (const auto& s : a.conversion.skipped) {
     const auto& p = parts[s.part];
     line(fmt::format("    left out {}:{} {}: {}", p.file, p.line, p.reference, s.reason));

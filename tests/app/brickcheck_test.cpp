@@ -32,7 +32,8 @@ json check_json(const std::vector<std::string>& args, int expected_exit) {
 
 fs::path scratch(const std::string& name) {
   auto dir = fs::temp_directory_path() /
-             ("lego_brickcheck_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+             ("lego_brickcheck_" +
+              std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
   fs::create_directories(dir);
   return dir / name;
 }
@@ -235,14 +236,15 @@ TEST_P(BrickcheckShared, PinsWhatItSays) {
 
 INSTANTIATE_TEST_SUITE_P(
     Real, BrickcheckShared,
-    testing::Values(SharedExpectation{"car.ldr", 31, 30, 11, 8, 1},
-                    SharedExpectation{"car.ldr_Packed.mpd", 31, 30, 11, 8, 1},
-                    SharedExpectation{"30023-1-Lighthouse.ldr", 1, 24, 1, 0, 0},
-                    SharedExpectation{"889-1-RadarTruck.mpd", 6, 29, 2, 1, 1},
+    testing::Values(SharedExpectation{"car.ldr", 31, 30, 11, 31, 1},
+                    // Embedded 3031, 3938 and 3068b are analysed from the file itself.
+                    SharedExpectation{"car.ldr_Packed.mpd", 34, 27, 8, 34, 1},
+                    SharedExpectation{"30023-1-Lighthouse.ldr", 1, 24, 1, 1, 1},
+                    SharedExpectation{"889-1-RadarTruck.mpd", 6, 29, 2, 6, 1},
                     SharedExpectation{"4838-1-MiniVehicles.mpd", 14, 65, 3, 2, 1},
-                    SharedExpectation{"4915-1-MiniConstruction.mpd", 8, 59, 2, 6, 1},
-                    SharedExpectation{"5935-1-IslandHopper.mpd", 42, 161, 20, 27, 1},
-                    SharedExpectation{"1621-1-LunarMPVVehicle.mpd", 4, 100, 4, 2, 1},
+                    SharedExpectation{"4915-1-MiniConstruction.mpd", 8, 59, 2, 8, 1},
+                    SharedExpectation{"5935-1-IslandHopper.mpd", 42, 161, 20, 42, 1},
+                    SharedExpectation{"1621-1-LunarMPVVehicle.mpd", 4, 100, 4, 4, 1},
                     SharedExpectation{"Bulldog.mpd", 2, 7, 2, 0, 0}),
     [](const auto& info) {
       std::string n = info.param.file;
@@ -250,6 +252,39 @@ INSTANTIATE_TEST_SUITE_P(
         if (!isalnum(static_cast<unsigned char>(c))) c = '_';
       return n;
     });
+
+TEST(Brickcheck, PartsFromAnLDrawLibrary) {
+  auto model = (test::data_dir() / "library-model.ldr").string();
+  auto library = (test::data_dir() / "library").string();
+  json j = check_json({"--ldraw-dir", library, model}, 0);
+  EXPECT_EQ(j["bricks"], 3);
+  EXPECT_EQ(j["components"], 1);  // the plate, the brick on it, the tile on the brick
+  ASSERT_EQ(j["learnt_parts"].size(), 2u);
+  EXPECT_EQ(j["learnt_parts"][0]["part"], "3031");  // knobs through a stud group (stug-2x2)
+  EXPECT_EQ(j["learnt_parts"][0]["kind"], "plate");
+  EXPECT_EQ(j["learnt_parts"][0]["length"], 4);
+  EXPECT_NEAR(j["learnt_parts"][0]["mass_g"].get<double>(), 22.29 / 210 * 16, 1e-9);
+  EXPECT_EQ(j["learnt_parts"][1]["part"], "3068b");  // its body in a subpart, no knobs
+  EXPECT_EQ(j["learnt_parts"][1]["kind"], "tile");
+  ASSERT_EQ(j["skipped"].size(), 2u);
+  EXPECT_NE(j["skipped"][0]["reason"].get<std::string>().find("3 knobs on a 2 x 2 top"),
+            std::string::npos);
+  EXPECT_EQ(j["skipped"][0]["line"], 11);
+  EXPECT_NE(j["skipped"][1]["reason"].get<std::string>().find("off its top lattice"),
+            std::string::npos);
+  EXPECT_EQ(run_tool("brickcheck", {"--strict", "--ldraw-dir", library, model}).exit_code, 3);
+  // LDRAWDIR works like --ldraw-dir.
+  std::string cmd = "LDRAWDIR=" + test::quote(library) + " " +
+                    test::quote(test::tool("brickcheck").string()) + " --quiet " +
+                    test::quote(model) + " >/dev/null";
+  EXPECT_EQ(std::system(cmd.c_str()), 0);
+  // Without the library the brick rests on an unknown plate: it is not on the ground.
+  json alone = check_json({model}, 1);
+  EXPECT_EQ(alone["bricks"], 1);
+  EXPECT_EQ(alone["floating"].size(), 1u);
+  EXPECT_NE(run_tool("brickcheck", {model}).out.find("may rest on the 4 parts left out"),
+            std::string::npos);
+}
 
 TEST(BrickcheckSharedDetail, DuplicatedPartsAreReportedAsOverlapping) {
   SKIP_WITHOUT_SHARED();
