@@ -7,7 +7,8 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake pkg-config
   libassimp-dev libeigen3-dev coinor-libclp-dev libfmt-dev libcli11-dev libgtest-dev
-  nlohmann-json3-dev libstb-dev
+  nlohmann-json3-dev libstb-dev libsuitesparse-dev
+  libopenblas0-pthread   # BLAS for CHOLMOD's supernodal factorization: 2-3x the reference BLAS
   leocad xvfb xauth   # real clients for rendering tests
 )
 missing=()

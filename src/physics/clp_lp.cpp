@@ -44,6 +44,7 @@ LpSolution solve_lp(const LpData& lp, LpMethod method, bool presolve, bool scali
 
   ClpSolve how;
   switch (method) {
+    case LpMethod::InteriorPoint:  // ours, not Clp's: callers route it elsewhere
     case LpMethod::DualSimplex:
       how.setSolveType(ClpSolve::useDual);
       break;

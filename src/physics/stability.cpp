@@ -7,6 +7,7 @@
 #include <map>
 
 #include "physics/clp_lp.h"
+#include "physics/interior_point.h"
 
 namespace lego::physics {
 namespace {
@@ -71,6 +72,59 @@ void rank_weakest(const EquilibriumSystem& sys, const ContactGraph& g,
                    [](const WeakContact& a, const WeakContact& b) { return a.share > b.share; });
 }
 
+// Our interior point method on an LP whose columns are all sparse.
+LpSolution solve_interior(const LpData& lp) {
+  IpmProblem p;
+  p.rows = lp.rows;
+  p.start = lp.start;
+  p.index = lp.index;
+  p.value = lp.value;
+  p.c = lp.objective;
+  p.b = lp.row_lower;
+  p.lower = lp.col_lower;
+  p.upper = lp.col_upper;
+  IpmResult r = solve_interior_point(p);
+  LpSolution s;
+  s.iterations = r.iterations;
+  s.message = r.message;
+  if (!r.converged) return s;  // outcome: Failed
+  s.outcome = LpOutcome::Optimal;
+  s.objective = r.objective;
+  s.x = std::move(r.x);
+  s.row_dual = std::move(r.y);
+  s.reduced_cost.resize(s.x.size());
+  for (size_t j = 0; j < s.x.size(); ++j) s.reduced_cost[j] = r.z_lower[j] - r.z_upper[j];
+  return s;
+}
+
+// The scaled LP: max w s.t. A·ξ − (b/T)·w = 0. Column sys.columns() is w. With `split`, w has
+// one copy per brick, on that brick's rows, chained by rows w_i − w_{i+1} = 0: the same LP
+// without a dense column, which the interior point method's normal equations need.
+LpData scaled_lp(const EquilibriumSystem& sys, double support_bound, bool split) {
+  LpData lp = equilibrium_lp(sys, 1.0, 0.0, support_bound);
+  const int bricks = sys.rows / 6;
+  if (!split) {
+    std::vector<std::pair<int, double>> entries;
+    for (int row = 0; row < sys.rows; ++row)
+      if (sys.rhs[row] != 0) entries.emplace_back(row, -sys.rhs[row] / kMaxFrictionLoad);
+    lp.add_column(0, kMaxScale, -1, entries);
+    return lp;
+  }
+  lp.rows += bricks - 1;
+  lp.row_lower.resize(lp.rows, 0.0);
+  lp.row_upper.resize(lp.rows, 0.0);
+  for (int i = 0; i < bricks; ++i) {
+    std::vector<std::pair<int, double>> entries;
+    for (int e = 0; e < 6; ++e)
+      if (int row = EquilibriumSystem::row(i, e); sys.rhs[row] != 0)
+        entries.emplace_back(row, -sys.rhs[row] / kMaxFrictionLoad);
+    if (i > 0) entries.emplace_back(sys.rows + i - 1, -1.0);
+    if (i + 1 < bricks) entries.emplace_back(sys.rows + i, 1.0);
+    lp.add_column(0, kMaxScale, i == 0 ? -1 : 0, entries);
+  }
+  return lp;
+}
+
 bool equilibrium_exists(const EquilibriumSystem& sys, const StabilityOptions& o) {
   LpData lp = equilibrium_lp(sys, kInfinity, 1.0 / kMaxFrictionLoad);
   return solve_lp(lp, LpMethod::DualSimplex, o.presolve, o.scaling, o.max_seconds).outcome !=
@@ -95,23 +149,31 @@ void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, Stabi
   // iterations instead of hundreds (the simplex is slower with them bounded, so it keeps them
   // free); a bound the solution touches is raised and the LP solved again, so the answer stays
   // that of the free problem.
-  LpSolution s;
-  const bool barrier = o.method == LpMethod::Barrier || o.method == LpMethod::BarrierNoCrossover;
-  for (double bound = barrier ? o.support_bound : kInfinity;; bound = bound < 1e12 ? bound * 1e3 : kInfinity) {
-    LpData lp = equilibrium_lp(sys, 1.0, 0.0, bound);
-    std::vector<std::pair<int, double>> w_entries;
-    for (int row = 0; row < sys.rows; ++row)
-      if (sys.rhs[row] != 0) w_entries.emplace_back(row, -sys.rhs[row] / kMaxFrictionLoad);
-    lp.add_column(0, kMaxScale, -1, w_entries);
-    r.stats.rows = lp.rows;
-    r.stats.columns = lp.columns();
-    r.stats.nonzeros = int(lp.index.size());
-    s = solve_lp(lp, o.method, o.presolve, o.scaling, o.max_seconds);
-    r.stats.iterations += s.iterations;
-    if (s.outcome != LpOutcome::Optimal || std::isinf(bound) || !support_at_bound(sys, s, bound)) break;
+  auto attempt = [&](LpMethod method, double first_bound) {
+    LpSolution s;
+    for (double bound = first_bound;; bound = bound < 1e12 ? bound * 1e3 : kInfinity) {
+      LpData lp = scaled_lp(sys, bound, method == LpMethod::InteriorPoint);
+      r.stats.rows = lp.rows;
+      r.stats.columns = lp.columns();
+      r.stats.nonzeros = int(lp.index.size());
+      s = method == LpMethod::InteriorPoint
+              ? solve_interior(lp)
+              : solve_lp(lp, method, o.presolve, o.scaling, o.max_seconds);
+      r.stats.iterations += s.iterations;
+      if (s.outcome != LpOutcome::Optimal || std::isinf(bound) || !support_at_bound(sys, s, bound))
+        return s;
+    }
+  };
+  const bool interior = o.method == LpMethod::InteriorPoint || o.method == LpMethod::Barrier ||
+                        o.method == LpMethod::BarrierNoCrossover;
+  LpSolution s = attempt(o.method, interior ? o.support_bound : kInfinity);
+  if (o.method == LpMethod::InteriorPoint && s.outcome != LpOutcome::Optimal) {
+    // Exact all the same: Clp's dual simplex takes over, and the result says so.
+    r.message = s.message + "; solved by Clp's dual simplex instead";
+    s = attempt(LpMethod::DualSimplex, kInfinity);
   }
   if (s.outcome != LpOutcome::Optimal) return set_failure(r, s);  // w = 0 is always feasible
-  const double w = s.x.back();
+  const double w = s.x[sys.columns()];
   if (w >= kMaxScale * (1 - 1e-9)) {
     r.status = StabilityStatus::Solved;
     r.cm = kMaxFrictionLoad;  // no friction needed anywhere
@@ -152,7 +214,10 @@ void solve_max_min(const EquilibriumSystem& sys, const StabilityOptions& o, Stab
   r.stats.rows = lp.rows;
   r.stats.columns = lp.columns();
   r.stats.nonzeros = int(lp.index.size());
-  LpSolution s = solve_lp(lp, o.method, o.presolve, o.scaling, o.max_seconds);
+  // The reference form: our interior point method handles one dense column, and this form's
+  // t column is one, but its supports are free; it is solved by Clp (dual simplex by default).
+  const LpMethod method = o.method == LpMethod::InteriorPoint ? LpMethod::DualSimplex : o.method;
+  LpSolution s = solve_lp(lp, method, o.presolve, o.scaling, o.max_seconds);
   r.stats.iterations = s.iterations;
   if (s.outcome == LpOutcome::Infeasible) {
     r.status = StabilityStatus::NoEquilibrium;

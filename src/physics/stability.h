@@ -27,17 +27,18 @@ enum class LpForm {
   // max t s.t. t + f_i ≤ T for every friction point, A·x = b: the LP as PHYSICS.md writes it.
   MaxMin,
 };
-enum class LpMethod { DualSimplex, PrimalSimplex, Barrier, BarrierNoCrossover };
+// InteriorPoint is our own (interior_point.h); the others are Clp's.
+enum class LpMethod { InteriorPoint, DualSimplex, PrimalSimplex, Barrier, BarrierNoCrossover };
 
 struct StabilityOptions {
   GroundMode ground = GroundMode::Baseplate;
   LpForm form = LpForm::Scaled;
-  LpMethod method = LpMethod::BarrierNoCrossover;
+  LpMethod method = LpMethod::InteriorPoint;
   bool presolve = true;
   bool scaling = true;
   bool brick_capacity = false;  // also compute the per-brick capacity (a QP; for heat maps)
-  // Scaled form with a barrier: |support force| ≤ this (in units of the largest friction force)
-  // while solving; raised and solved again when the solution touches it.
+  // Scaled form with an interior point method: |support force| ≤ this (in units of the largest
+  // friction force) while solving; raised and solved again when the solution touches it.
   double support_bound = 1e3;
   double max_seconds = 3600;
 };

@@ -244,9 +244,9 @@ TEST(StabilityProperty, ScaledAndMaxMinFormsAgree) {
   const auto& types = BrickCatalog::standard().types();
   std::mt19937 rng(7);
   int compared = 0;
-  for (int trial = 0; trial < 40; ++trial) {
+  for (int trial = 0; trial < 200; ++trial) {
     Assembly a;
-    for (int level = 0; level < 5; ++level) {
+    for (int level = 0; level < 8; ++level) {
       Brick b;
       b.type = &types[rng() % 11];
       b.rotated = rng() % 2;
@@ -264,8 +264,28 @@ TEST(StabilityProperty, ScaledAndMaxMinFormsAgree) {
     if (s.status != StabilityStatus::Solved) continue;
     ++compared;
     EXPECT_NEAR(s.cm, m.cm, 1e-6 * std::max(1.0, std::abs(m.cm))) << trial;
+    EXPECT_EQ(s.message, "") << "the interior point method fell back on trial " << trial << ": "
+                             << s.message << " (C_M/9.8 = " << m.cm_gf() << ")";
   }
   EXPECT_GT(compared, 5);
+}
+
+// Our interior point method converges by itself (no fallback to Clp) and agrees with Clp's
+// simplex on C_M and on the weakest contact.
+TEST(StabilityProperty, InteriorPointAgreesWithClpSimplex) {
+  std::vector<Assembly> models;
+  for (int n = 1; n <= 12; ++n)
+    for (char v : {'a', 'b'}) models.push_back(test::figure7_bridge(n, v));
+  models.push_back(asymmetric_model());
+  for (const Assembly& a : models) {
+    auto ipm = analyze_stability(a, {.method = LpMethod::InteriorPoint});
+    auto simplex = analyze_stability(a, {.method = LpMethod::DualSimplex});
+    ASSERT_EQ(ipm.status, StabilityStatus::Solved);
+    EXPECT_EQ(ipm.message, "") << "fell back";
+    EXPECT_NEAR(ipm.cm, simplex.cm, 1e-6 * std::abs(simplex.cm));
+    ASSERT_FALSE(ipm.weakest.empty());
+    EXPECT_EQ(ipm.weakest[0].contact, simplex.weakest[0].contact);
+  }
 }
 
 TEST(ContactGraph, FrictionPointsFollowTheCavityShape) {

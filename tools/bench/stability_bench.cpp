@@ -15,23 +15,25 @@ using namespace lego::physics;
 int main(int argc, char** argv) {
   CLI::App app{"Stability LP benchmark"};
   std::vector<int> sizes{500, 2000};
-  std::string form = "scaled", method = "dual";
+  std::string form = "scaled", method = "ipm";
   bool no_presolve = false, no_scaling = false;
   int repeat = 3;
   double max_seconds = 900;
   app.add_option("--bricks", sizes, "approximate brick counts");
   app.add_option("--form", form)->check(CLI::IsMember({"scaled", "maxmin"}));
   app.add_option("--method", method)
-      ->check(CLI::IsMember({"dual", "primal", "barrier", "barrier-nocross"}));
+      ->check(CLI::IsMember({"ipm", "dual", "primal", "barrier", "barrier-nocross"}));
   app.add_flag("--no-presolve", no_presolve);
   app.add_flag("--no-scaling", no_scaling);
   app.add_option("--repeat", repeat, "runs per size; the median is printed");
   app.add_option("--max-seconds", max_seconds);
   double support_bound = 1e3;
-  app.add_option("--support-bound", support_bound, "bound on support forces while solving (inf: free)");
+  app.add_option("--support-bound", support_bound,
+                 "bound on support forces while solving (inf: free)");
   CLI11_PARSE(app, argc, argv);
 
   static const std::map<std::string, LpMethod> methods = {
+      {"ipm", LpMethod::InteriorPoint},
       {"dual", LpMethod::DualSimplex},
       {"primal", LpMethod::PrimalSimplex},
       {"barrier", LpMethod::Barrier},

@@ -1,0 +1,290 @@
+#include "physics/interior_point.h"
+
+#include <fmt/format.h>
+#include <Eigen/CholmodSupport>
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+namespace lego::physics {
+namespace {
+
+using Vec = Eigen::VectorXd;
+using SpMat = Eigen::SparseMatrix<double>;
+
+double max_step(const Vec& v, const Vec& dv) {
+  double alpha = 1.0;
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    if (dv[i] < 0) alpha = std::min(alpha, -v[i] / dv[i]);
+  return alpha;
+}
+
+// Rows of A that are (numerically) combinations of others: with rows scaled to unit length, an
+// LDLᵀ factorization of A·Aᵀ has a pivot near zero exactly where a row adds nothing to the rows
+// eliminated before it. Such dependencies are structural here (a sub-assembly that hangs on one
+// stacked contact may spin about its vertical axis: the twist rows repeat), so the pivots are at
+// roundoff level, far below those of independent rows.
+std::vector<char> dependent_rows(const SpMat& A) {
+  Vec scale = Vec::Ones(A.rows());
+  SpMat AAt = A * A.transpose();
+  for (Eigen::Index r = 0; r < A.rows(); ++r)
+    scale[r] = 1 / std::sqrt(std::max(AAt.coeff(r, r), 1e-300));
+  SpMat S = scale.asDiagonal() * AAt * scale.asDiagonal();
+  Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  ldlt.setShift(1e-14);
+  ldlt.compute(S);
+  std::vector<char> dependent(A.rows(), 0);
+  if (ldlt.info() != Eigen::Success) return dependent;
+  const Vec pivots = ldlt.vectorD();  // a copy: vectorD() returns by value
+  const auto& original = ldlt.permutationPinv().indices();
+  for (Eigen::Index k = 0; k < A.rows(); ++k)
+    if (pivots[k] < 1e-10) dependent[original[k]] = 1;
+  return dependent;
+}
+
+}  // namespace
+
+IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
+  IpmResult result;
+  const int n = p.columns();
+  // Empty rows carry no equation (their b must be zero); rows that repeat others of their block
+  // add nothing. Both would make the normal matrix singular, so neither is solved for.
+  std::vector<char> used(p.rows, 0);
+  for (int j = 0; j < n; ++j)
+    for (int k = p.start[j]; k < p.start[j + 1]; ++k)
+      if (p.value[k] != 0) used[p.index[k]] = 1;
+  for (int r = 0; r < p.rows; ++r)
+    if (!used[r] && p.b[r] != 0) {
+      result.message = "an equation without variables has a non-zero right-hand side";
+      return result;
+    }
+  std::vector<int> row_map(p.rows, -1);
+  int m = 0;
+  for (int r = 0; r < p.rows; ++r)
+    if (used[r]) row_map[r] = m++;
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (int j = 0; j < n; ++j)
+    for (int k = p.start[j]; k < p.start[j + 1]; ++k)
+      if (p.value[k] != 0 && row_map[p.index[k]] >= 0)
+        triplets.emplace_back(row_map[p.index[k]], j, p.value[k]);
+  SpMat A_used(m, n);
+  A_used.setFromTriplets(triplets.begin(), triplets.end());
+  // Drop dependent rows; the solution is checked against them at the end.
+  const std::vector<char> dependent = dependent_rows(A_used);
+  std::vector<int> kept_row(m, -1);
+  int kept = 0;
+  for (int r = 0; r < m; ++r)
+    if (!dependent[r]) kept_row[r] = kept++;
+  triplets.erase(std::remove_if(triplets.begin(), triplets.end(),
+                                [&](const auto& t) { return dependent[t.row()]; }),
+                 triplets.end());
+  for (auto& t : triplets) t = Eigen::Triplet<double>(kept_row[t.row()], t.col(), t.value());
+  for (int r = 0; r < p.rows; ++r)
+    if (row_map[r] >= 0) row_map[r] = kept_row[row_map[r]];
+  m = kept;
+  // LEGO_IPM_TRACE=1 prints each iteration on stderr: residuals, steps, time to form and factor.
+  const bool trace = std::getenv("LEGO_IPM_TRACE") != nullptr;
+  if (trace)
+    fmt::print(stderr, "rows {}, {} with variables, {} independent\n", p.rows, A_used.rows(), kept);
+  SpMat A(m, n);
+  A.setFromTriplets(triplets.begin(), triplets.end());
+  SpMat At = A.transpose();
+  const SpMat A_abs = A.cwiseAbs();
+  Vec b(m), c = Eigen::Map<const Vec>(p.c.data(), n);
+  for (int r = 0; r < p.rows; ++r)
+    if (row_map[r] >= 0) b[row_map[r]] = p.b[r];
+  auto times = [&](const Vec& x) { return Vec(A * x); };
+  auto times_t = [&](const Vec& y) { return Vec(At * y); };
+
+  const Vec lo = Eigen::Map<const Vec>(p.lower.data(), n),
+            up = Eigen::Map<const Vec>(p.upper.data(), n);
+  Vec has_up(n);
+  for (int j = 0; j < n; ++j) has_up[j] = std::isfinite(up[j]) ? 1.0 : 0.0;
+  // Start inside the bounds, near zero: the middle of a narrow box, else zero moved at least a
+  // unit inside the bounds (a wide box's middle can be absurdly far from any solution).
+  Vec x(n), zl = Vec::Ones(n), zu = has_up, y = Vec::Zero(m);
+  for (int j = 0; j < n; ++j)
+    x[j] = has_up[j] && up[j] - lo[j] <= 2
+               ? 0.5 * (lo[j] + up[j])
+               : std::clamp(0.0, lo[j] + 1, has_up[j] ? up[j] - 1 : 1e300);
+  // The distances to the bounds are carried as variables of their own, moved by the same steps
+  // as x: recomputed as u − x they would cancel to exactly zero for x → u.
+  Vec xl = x - lo, xu = Vec::Ones(n);
+  for (int j = 0; j < n; ++j)
+    if (has_up[j]) xu[j] = up[j] - x[j];
+
+  Eigen::CholmodSupernodalLLT<SpMat> llt;
+  bool analysed = false;
+  const double b_norm = 1 + b.lpNorm<Eigen::Infinity>(), c_norm = 1 + c.lpNorm<Eigen::Infinity>();
+  const int bounds = n + int(has_up.sum());
+
+  for (int it = 0; it < options.max_iterations; ++it) {
+    result.iterations = it;
+    Vec rp = b - times(x);
+    Vec rd = c - times_t(y) - zl + zu.cwiseProduct(has_up);
+    double gap_sum = xl.dot(zl) + xu.cwiseProduct(has_up).dot(zu);
+    double mu = gap_sum / bounds;
+    double primal_obj = c.dot(x);
+    double dual_obj = b.dot(y) + lo.dot(zl);
+    for (int j = 0; j < n; ++j)
+      if (has_up[j]) dual_obj -= up[j] * zu[j];
+    if (!std::isfinite(mu) || !std::isfinite(rp.squaredNorm())) {
+      result.message = fmt::format("the interior point method broke down at iteration {}", it);
+      break;
+    }
+    // Residuals relative to the size of what they balance: here b is often zero, while the
+    // terms of A·x are not.
+    const double primal_scale =
+        std::max(b_norm, 1 + (A_abs * x.cwiseAbs()).lpNorm<Eigen::Infinity>());
+    if (rp.lpNorm<Eigen::Infinity>() / primal_scale < options.tolerance &&
+        rd.lpNorm<Eigen::Infinity>() / c_norm < options.tolerance &&
+        std::abs(primal_obj - dual_obj) / (1 + std::abs(primal_obj)) < options.tolerance) {
+      result.converged = true;
+      break;
+    }
+    // Θ = (zl/xl + zu/xu)⁻¹ and the normal matrix A·Θ·Aᵀ + δI.
+    if (trace)
+      fmt::print(stderr, "it {:3} mu {:.3e} rp {:.3e} rd {:.3e} pobj {:.9e} dobj {:.9e}\n", it, mu,
+                 rp.lpNorm<Eigen::Infinity>(), rd.lpNorm<Eigen::Infinity>(), primal_obj, dual_obj);
+    Vec theta(n);
+    for (int j = 0; j < n; ++j)
+      theta[j] = 1.0 / (zl[j] / xl[j] + (has_up[j] ? zu[j] / xu[j] : 0.0));
+    auto t0 = std::chrono::steady_clock::now();
+    SpMat M = A * theta.asDiagonal() * At;
+    auto t1 = std::chrono::steady_clock::now();
+    if (!analysed) {
+      llt.cholmod().print = 0;  // failures are handled here, not printed
+      llt.analyzePattern(M);
+      analysed = true;
+    }
+    // The equations are often dependent (a brick held at one point has a torque row that
+    // repeats its force rows), so A·Θ·Aᵀ is only semi-definite. Regularize each row relative to
+    // its own diagonal (the diagonal spans many orders of magnitude near the optimum); the
+    // conjugate gradients below remove the perturbation. With dependent rows dropped the
+    // matrix is still near-singular at degenerate optima, which is why CG and not plain
+    // refinement: measured, ε from 1e-13 to 1e-8 then all converge; larger ε costs CG steps.
+    const Vec diagonal = M.diagonal();
+    double epsilon = 1e-12;
+    for (;; epsilon *= 100) {
+      SpMat R = M;
+      for (int r = 0; r < m; ++r) R.coeffRef(r, r) += epsilon * diagonal[r];
+      llt.factorize(R);
+      if (llt.info() == Eigen::Success) break;
+      if (epsilon > 1e-5) {
+        result.message =
+            fmt::format("the normal equations could not be factored at iteration {}", it);
+        return result;
+      }
+    }
+    auto t2 = std::chrono::steady_clock::now();
+    if (trace)
+      fmt::print(stderr, "    form {:.3f}s factor {:.3f}s\n",
+                 std::chrono::duration<double>(t1 - t0).count(),
+                 std::chrono::duration<double>(t2 - t1).count());
+    // Conjugate gradients on the unregularized matrix, preconditioned by the regularized factor:
+    // near the optimum a few directions are nearly singular, the factor is poor only there, and
+    // CG resolves a few outlying directions in a few steps (plain refinement stalls on them).
+    auto solve_normal = [&](const Vec& r) {
+      auto apply = [&](const Vec& v) { return Vec(A * theta.cwiseProduct(At * v)); };
+      Vec v = llt.solve(r);
+      Vec residual = r - apply(v);
+      const double target = 1e-13 * r.norm();
+      if (residual.norm() <= target) return v;
+      Vec z = llt.solve(residual), d = z;
+      double rz = residual.dot(z);
+      for (int k = 0; k < 50 && residual.norm() > target; ++k) {
+        Vec Md = apply(d);
+        const double curvature = d.dot(Md);
+        if (!(curvature > 0)) break;
+        const double alpha = rz / curvature;
+        v += alpha * d;
+        residual -= alpha * Md;
+        z = llt.solve(residual);
+        const double rz_next = residual.dot(z);
+        d = z + (rz_next / rz) * d;
+        rz = rz_next;
+      }
+      return v;
+    };
+    // Solves the Newton system for the complementarity targets rl (lower) and ru (upper).
+    auto direction = [&](const Vec& rl, const Vec& ru, Vec& dx, Vec& dy, Vec& dzl, Vec& dzu) {
+      Vec r_hat(n);
+      for (int j = 0; j < n; ++j)
+        r_hat[j] = rd[j] - rl[j] / xl[j] + (has_up[j] ? ru[j] / xu[j] : 0.0);
+      dy = solve_normal(rp + times(theta.cwiseProduct(r_hat)));
+      dx = theta.cwiseProduct(times_t(dy) - r_hat);
+      dzl = (rl - zl.cwiseProduct(dx)).cwiseQuotient(xl);
+      dzu = Vec::Zero(n);
+      for (int j = 0; j < n; ++j)
+        if (has_up[j]) dzu[j] = (ru[j] + zu[j] * dx[j]) / xu[j];
+    };
+    auto steps = [&](const Vec& dx, const Vec& dzl, const Vec& dzu, double& ap, double& ad) {
+      Vec dxu = -dx.cwiseProduct(has_up);
+      ap = std::min(max_step(xl, dx), max_step(xu, dxu));
+      ad = std::min(max_step(zl, dzl),
+                    max_step(zu.cwiseProduct(has_up) + (Vec::Ones(n) - has_up), dzu));
+    };
+    // Predictor: the affine scaling direction.
+    Vec dx, dy, dzl, dzu;
+    Vec rl = -xl.cwiseProduct(zl), ru = -xu.cwiseProduct(zu).cwiseProduct(has_up);
+    direction(rl, ru, dx, dy, dzl, dzu);
+    double ap, ad;
+    steps(dx, dzl, dzu, ap, ad);
+    Vec xl_a = xl + ap * dx, xu_a = xu - ap * dx, zl_a = zl + ad * dzl, zu_a = zu + ad * dzu;
+    double mu_aff = (xl_a.dot(zl_a) + xu_a.cwiseProduct(has_up).dot(zu_a)) / bounds;
+    double sigma = mu > 0 && std::isfinite(mu_aff / mu) ? std::pow(mu_aff / mu, 3) : 0.0;
+    // Keep centring while feasibility lags behind complementarity: an iterate that reaches
+    // μ ≈ 0 before A·x = b holds is pinned to the bounds and can only take tiny steps.
+    const double primal_lag = rp.lpNorm<Eigen::Infinity>() / primal_scale;
+    if (primal_lag > 100 * options.tolerance && mu / (1 + std::abs(primal_obj)) < primal_lag)
+      sigma = std::max(sigma, 0.1);
+    // Corrector: centring plus the second-order term of the predictor.
+    Vec rl_c = Vec::Constant(n, sigma * mu) - xl.cwiseProduct(zl) - dx.cwiseProduct(dzl);
+    Vec ru_c = (Vec::Constant(n, sigma * mu) - xu.cwiseProduct(zu) + dx.cwiseProduct(dzu))
+                   .cwiseProduct(has_up);
+    direction(rl_c, ru_c, dx, dy, dzl, dzu);
+    steps(dx, dzl, dzu, ap, ad);
+    ap = std::min(1.0, 0.995 * ap);
+    ad = std::min(1.0, 0.995 * ad);
+    if (trace) {
+      Vec check = rp - times(dx);
+      fmt::print(stderr, "    ap {:.3e} ad {:.3e} sigma {:.3e} |rp - A dx| {:.3e} eps {:.0e}\n", ap,
+                 ad, sigma, check.lpNorm<Eigen::Infinity>(), epsilon);
+    }
+    x += ap * dx;
+    xl += ap * dx;
+    xu -= ap * dx.cwiseProduct(has_up);
+    y += ad * dy;
+    zl += ad * dzl;
+    zu += ad * dzu.cwiseProduct(has_up);
+  }
+  // The dropped rows must hold too: if one was not truly dependent, the answer is not trusted.
+  if (result.converged) {
+    const double scale =
+        std::max(b_norm, 1 + (A_used.cwiseAbs() * x.cwiseAbs()).lpNorm<Eigen::Infinity>());
+    Vec b_used(A_used.rows());
+    for (int r = 0, u = 0; r < p.rows; ++r)
+      if (used[r]) b_used[u++] = p.b[r];
+    if ((b_used - A_used * x).lpNorm<Eigen::Infinity>() / scale > 100 * options.tolerance) {
+      result.converged = false;
+      result.message = "a row taken as dependent does not hold at the solution";
+    }
+  }
+  result.objective = c.dot(x);
+  result.x.assign(x.data(), x.data() + n);
+  result.y.assign(p.rows, 0.0);
+  for (int r = 0; r < p.rows; ++r)
+    if (row_map[r] >= 0) result.y[r] = y[row_map[r]];
+  result.z_lower.assign(zl.data(), zl.data() + n);
+  result.z_upper.assign(zu.data(), zu.data() + n);
+  if (!result.converged && result.message.empty())
+    result.message = fmt::format("the interior point method did not converge in {} iterations",
+                                 result.iterations);
+  return result;
+}
+
+}  // namespace lego::physics

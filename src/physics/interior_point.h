@@ -1,0 +1,38 @@
+#pragma once
+// A primal-dual interior point method (Mehrotra's predictor-corrector) for
+//   min c·x  s.t.  A·x = b,  l ≤ x ≤ u   (every l finite; u may be infinite)
+// with A sparse, every column included: a dense column would make the normal equations A·Θ·Aᵀ
+// dense (split it instead, docs/stability-lp.md). CHOLMOD factors them. Rows that depend on
+// others are found and dropped first, and checked at the end.
+#include <string>
+#include <vector>
+
+namespace lego::physics {
+
+struct IpmProblem {
+  int rows = 0;
+  std::vector<int> start{0}, index;  // column-major
+  std::vector<double> value;
+  std::vector<double> c, b, lower, upper;
+  int columns() const { return int(c.size()); }
+};
+
+struct IpmResult {
+  bool converged = false;
+  int iterations = 0;
+  std::vector<double> x, y;
+  std::vector<double> z_lower, z_upper;  // bound multipliers (≥ 0)
+  double objective = 0;
+  std::string message;
+};
+
+struct IpmOptions {
+  // Relative primal and dual residuals and duality gap. C_M = T·(1 − 1/w) inherits about a tenth
+  // of w's relative error, so 1e-8 keeps C_M well inside the 1e-6 the analysis promises.
+  double tolerance = 1e-8;
+  int max_iterations = 120;
+};
+
+IpmResult solve_interior_point(const IpmProblem& problem, const IpmOptions& options = {});
+
+}  // namespace lego::physics
