@@ -117,11 +117,16 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
   for (int j = 0; j < n; ++j)
     if (has_up[j]) xu[j] = up[j] - x[j];
 
+  // CHOLMOD's supernodal factorization: measured faster than Eigen's simplicial one at every size
+  // from 500 bricks up (0.67 s against 0.92 s for a whole solve at 516 bricks, 1.5 s against 3.0 s
+  // at 1,000); the same at 200.
   Eigen::CholmodSupernodalLLT<SpMat> llt;
+  llt.cholmod().print = 0;  // failures are handled here, not printed
   bool analysed = false;
   const double b_norm = 1 + b.lpNorm<Eigen::Infinity>(), c_norm = 1 + c.lpNorm<Eigen::Infinity>();
   const int bounds = n + int(has_up.sum());
 
+  long cg_steps = 0, factorizations = 0;
   for (int it = 0; it < options.max_iterations; ++it) {
     result.iterations = it;
     Vec rp = b - times(x);
@@ -157,7 +162,6 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
     SpMat M = A * theta.asDiagonal() * At;
     auto t1 = std::chrono::steady_clock::now();
     if (!analysed) {
-      llt.cholmod().print = 0;  // failures are handled here, not printed
       llt.analyzePattern(M);
       analysed = true;
     }
@@ -173,6 +177,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
       SpMat R = M;
       for (int r = 0; r < m; ++r) R.coeffRef(r, r) += epsilon * diagonal[r];
       llt.factorize(R);
+      ++factorizations;
       if (llt.info() == Eigen::Success) break;
       if (epsilon > 1e-5) {
         result.message =
@@ -197,6 +202,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
       Vec z = llt.solve(residual), d = z;
       double rz = residual.dot(z);
       for (int k = 0; k < 50 && residual.norm() > target; ++k) {
+        ++cg_steps;
         Vec Md = apply(d);
         const double curvature = d.dot(Md);
         if (!(curvature > 0)) break;
@@ -262,6 +268,9 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
     zl += ad * dzl;
     zu += ad * dzu.cwiseProduct(has_up);
   }
+  if (trace)
+    fmt::print(stderr, "{} factorizations, {} conjugate gradient steps\n", factorizations,
+               cg_steps);
   // The dropped rows must hold too: if one was not truly dependent, the answer is not trusted.
   if (result.converged) {
     const double scale =

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <map>
 
+#include "ldraw/writer.h"
 #include "physics/stability.h"
 #include "shapes.h"
 
@@ -30,6 +31,8 @@ int main(int argc, char** argv) {
   double support_bound = 1e3;
   app.add_option("--support-bound", support_bound,
                  "bound on support forces while solving (inf: free)");
+  std::string write;
+  app.add_option("--write", write, "also write each generated model to WRITE-<bricks>.ldr");
   CLI11_PARSE(app, argc, argv);
 
   static const std::map<std::string, LpMethod> methods = {
@@ -47,6 +50,9 @@ int main(int argc, char** argv) {
   options.support_bound = support_bound;
   for (int target : sizes) {
     Assembly a = bench::hollow_box_of(target);
+    if (!write.empty())
+      ldraw::write_model(fmt::format("{}-{}.ldr", write, target), a,
+                         {.title = "Hollow box", .name = {}});
     std::vector<double> solve, build, graph;
     StabilityResult r;
     for (int k = 0; k < repeat; ++k) {
