@@ -22,15 +22,19 @@ std::vector<std::string> seeds() {
       "0 T\r\n0 Name: t.ldr\r\n1 0x2FF0000 0 0 0 1 0 0 0 1 0 0 0 1 3005.dat\r\n4 16 0 0 0 1 0 0 1 "
       "0 1 0 0 1",
   };
-  auto dir = test::shared_dir() / "ldraw-models";
-  if (std::filesystem::is_directory(dir))
+  // Our own models always; the real ones of ../shared when it is there.
+  for (const auto& dir : {test::data_dir(), test::data_dir() / "bridges", test::data_dir() / "library" / "parts",
+                          test::shared_dir() / "ldraw-models"}) {
+    if (!std::filesystem::is_directory(dir)) continue;
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-      if (entry.path().extension() == ".md" || entry.file_size() > 20000) continue;
+      auto ext = entry.path().extension();
+      if ((ext != ".ldr" && ext != ".mpd" && ext != ".dat") || entry.file_size() > 20000) continue;
       std::ifstream in(entry.path(), std::ios::binary);
       std::ostringstream s;
       s << in.rdbuf();
       corpus.push_back(s.str());
     }
+  }
   return corpus;
 }
 
