@@ -24,11 +24,16 @@ std::vector<std::string> split_csv(const std::string& line) {
 
 }  // namespace
 
-std::string normalize_part_name(std::string_view name) {
+std::string normalize_reference(std::string_view name) {
   std::string out;
   out.reserve(name.size());
   for (char c : name)
     out.push_back(c == '\\' ? '/' : char(std::tolower(static_cast<unsigned char>(c))));
+  return out;
+}
+
+std::string normalize_part_name(std::string_view name) {
+  std::string out = normalize_reference(name);
   if (out.starts_with("parts/")) out.erase(0, 6);
   if (out.ends_with(".dat")) out.resize(out.size() - 4);
   return out;

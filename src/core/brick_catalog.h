@@ -42,7 +42,12 @@ class BrickCatalog {
 // ldraw_parts/: $LEGOLIZATION_PARTS if set, else the folder this build was configured with.
 std::filesystem::path default_parts_dir();
 
-// "parts/3001.DAT" -> "3001"; "s\\3068bs01.dat" -> "s/3068bs01". Lower case, forward slashes.
+// How LDraw names files: case-insensitively, with either slash. "S\\3068bs01.DAT" ->
+// "s/3068bs01.dat".
+std::string normalize_reference(std::string_view name);
+
+// A part number as the catalog knows it: "parts/3001.DAT" -> "3001"; "s\\3068bs01.dat" ->
+// "s/3068bs01".
 std::string normalize_part_name(std::string_view name);
 
 }  // namespace lego

@@ -14,11 +14,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string key(std::string name) {
-  for (char& c : name) c = c == '\\' ? '/' : char(std::tolower(static_cast<unsigned char>(c)));
-  return name;
-}
-
 std::string base_name(const std::string& k) {
   auto slash = k.rfind('/');
   return slash == std::string::npos ? k : k.substr(slash + 1);
@@ -72,7 +67,7 @@ class Walker {
           name.pop_back();
         if (!s && name.empty()) continue;
         Transform world = t.then(child);
-        std::string b = base_name(key(name));
+        std::string b = base_name(normalize_reference(name));
         if (is_knob(b)) {
           if (world.rot[4] > 0.5)
             g_.knobs.push_back(world.pos);
@@ -110,10 +105,11 @@ class Walker {
   bool any() const { return any_; }
 
   bool load(const std::string& name, std::string& text) {
-    std::string k = key(name);
+    std::string k = normalize_reference(name);
     if (sources_.embedded)
       for (const auto& [block, body] : *sources_.embedded)
-        if (key(block) == k || base_name(key(block)) == base_name(k)) {
+        if (normalize_reference(block) == k ||
+            base_name(normalize_reference(block)) == base_name(k)) {
           text = body;
           return true;
         }
@@ -154,7 +150,7 @@ std::optional<PartGeometry> read_part_geometry(const PlacedPart& part, const Par
     text = s.str();
   } else if (sources.embedded) {
     for (const auto& [block, body] : *sources.embedded)
-      if (key(block) == key(part.embedded_definition)) text = body;
+      if (normalize_reference(block) == normalize_reference(part.embedded_definition)) text = body;
   }
   if (text.empty()) {
     why = "no part file for it";

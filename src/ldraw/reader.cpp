@@ -1,5 +1,7 @@
 #include "ldraw/reader.h"
 
+#include "core/brick_catalog.h"
+
 #include <fmt/format.h>
 #include <algorithm>
 #include <cctype>
@@ -43,12 +45,6 @@ constexpr double kAbsurdCoordinate = 1e6;
 std::string lower(std::string_view s) {
   std::string out(s);
   for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
-std::string reference_key(std::string_view name) {
-  std::string out = lower(name);
-  std::replace(out.begin(), out.end(), '\\', '/');
   return out;
 }
 
@@ -111,7 +107,7 @@ struct Document {
   std::vector<Block> blocks;
   std::unordered_map<std::string, size_t> by_name;
   const Block* find(std::string_view name) const {
-    auto it = by_name.find(reference_key(name));
+    auto it = by_name.find(normalize_reference(name));
     return it == by_name.end() ? nullptr : &blocks[it->second];
   }
 };
@@ -144,7 +140,7 @@ class Parser {
     }
     close_block(text.size());
     for (size_t i = 0; i < doc_.blocks.size(); ++i) {
-      auto key = reference_key(doc_.blocks[i].name);
+      auto key = normalize_reference(doc_.blocks[i].name);
       if (!doc_.by_name.emplace(key, i).second && i > 0)
         warn(doc_.blocks[i].first_line,
              fmt::format("a second FILE block named '{}' is ignored", doc_.blocks[i].name));
@@ -297,7 +293,7 @@ class CaseInsensitiveFinder {
  public:
   std::optional<fs::path> find(const fs::path& dir, std::string_view relative) {
     fs::path current = dir;
-    std::string rel = reference_key(relative);
+    std::string rel = normalize_reference(relative);
     size_t start = 0;
     while (start <= rel.size()) {
       size_t slash = rel.find('/', start);
@@ -422,12 +418,12 @@ class Flattener {
     for (const Block& b : doc.blocks)
       for (const Entry& e : b.entries)
         if (const auto* ref = std::get_if<RefLine>(&e); ref && doc.find(ref->name))
-          used_by[reference_key(ref->name)].push_back(b.name);
+          used_by[normalize_reference(ref->name)].push_back(b.name);
     const Block& first = doc.blocks.front();
-    auto it = used_by.find(reference_key(first.name));
+    auto it = used_by.find(normalize_reference(first.name));
     if (it == used_by.end()) return;
     for (const Block& b : doc.blocks) {
-      if (&b == &first || b.is_part() || used_by.count(reference_key(b.name))) continue;
+      if (&b == &first || b.is_part() || used_by.count(normalize_reference(b.name))) continue;
       diag(Severity::Warning, doc, first.first_line,
            fmt::format("the main model '{}' (the first FILE) is used as a submodel by '{}', while "
                        "'{}' is used by nothing and may be the real main model",
@@ -491,9 +487,7 @@ class Flattener {
       return;
     }
     PlacedPart p;
-    p.part = reference_key(ref.name);
-    if (p.part.starts_with("parts/")) p.part.erase(0, 6);
-    if (p.part.ends_with(".dat")) p.part.resize(p.part.size() - 4);
+    p.part = normalize_part_name(ref.name);
     p.reference = ref.name;
     p.color = color;
     p.transform = world;
