@@ -162,6 +162,49 @@ TEST(Brickcheck, BadInputGetsClearMessagesAndExitCodes) {
   EXPECT_NE(run_tool("brickcheck", {"--help"}).out.find("Exit codes"), std::string::npos);
 }
 
+// The malformed inputs of the reader's tests, through the command line: exit 2, file:line.
+TEST(Brickcheck, ReaderErrorsExitWithTheirLine) {
+  struct Case {
+    const char* name;
+    const char* text;
+    const char* message;
+  };
+  const Case cases[] = {
+      {"singular.ldr", "0 s\n1 4 0 0 0 0 0 0 0 1 0 0 0 1 3001.dat\n",
+       "singular.ldr:2: error: singular matrix"},
+      {"absurd.ldr", "0 a\n1 4 1e12 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n",
+       "absurd.ldr:2: error: absurd number"},
+      {"loop.mpd",
+       "0 FILE a.ldr\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 b.ldr\n0 FILE b.ldr\n1 16 0 0 0 1 0 0 0 1 0 0 0 "
+       "1 a.ldr\n",
+       "loop.mpd:4: error: reference loop: a.ldr -> b.ldr -> a.ldr"},
+      {"missing.ldr",
+       "0 m\n1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 gone.ldr\n",
+       "missing.ldr:3: error: missing submodel 'gone.ldr'"},
+  };
+  for (const Case& c : cases) {
+    auto path = scratch(c.name);
+    std::ofstream(path) << c.text;
+    auto run = run_tool("brickcheck", {path.string()});
+    EXPECT_EQ(run.exit_code, 2) << c.name;
+    EXPECT_NE(run.out.find(c.message), std::string::npos) << run.out;
+  }
+  // A submodel used ten times at each of thirty levels: refused, not expanded for ever.
+  auto bomb = scratch("bomb.mpd");
+  {
+    std::ofstream out(bomb);
+    out << "0 FILE m0.ldr\n";
+    for (int level = 0; level < 30; ++level) {
+      for (int k = 0; k < 10; ++k) out << "1 16 0 0 0 1 0 0 0 1 0 0 0 1 m" << level + 1 << ".ldr\n";
+      out << "0 FILE m" << level + 1 << ".ldr\n";
+    }
+    out << "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  }
+  auto run = run_tool("brickcheck", {bomb.string()});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.out.find("parts; reading stopped"), std::string::npos) << run.out;
+}
+
 TEST(Brickcheck, FiftyThousandPartsInSeconds) {
   // 50,000 plates in a grid of loose stacks two high: connectivity only, no LP.
   auto path = scratch("fifty-thousand.ldr");
