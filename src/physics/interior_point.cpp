@@ -116,6 +116,10 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
   Vec xl = x - lo, xu = Vec::Ones(n);
   for (int j = 0; j < n; ++j)
     if (has_up[j]) xu[j] = up[j] - x[j];
+  // Multipliers start at 1/slack, so every complementarity product starts at 1: a centred start.
+  // (At 1 they made the products of the wide support boxes 10³ and cost a dozen iterations.)
+  zl = xl.cwiseInverse();
+  zu = xu.cwiseInverse().cwiseProduct(has_up);
 
   // CHOLMOD's supernodal factorization: measured faster than Eigen's simplicial one at every size
   // from 500 bricks up (0.67 s against 0.92 s for a whole solve at 516 bricks, 1.5 s against 3.0 s

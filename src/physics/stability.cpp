@@ -174,7 +174,8 @@ void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, Stabi
   }
   if (s.outcome != LpOutcome::Optimal) return set_failure(r, s);  // w = 0 is always feasible
   const double w = s.x[sys.columns()];
-  if (w >= kMaxScale * (1 - 1e-9)) {
+  // At the cap, within the solver's tolerance: the difference from T is at most T/kMaxScale.
+  if (w >= kMaxScale * (1 - 1e-6)) {
     r.status = StabilityStatus::Solved;
     r.cm = kMaxFrictionLoad;  // no friction needed anywhere
     return;
