@@ -22,7 +22,8 @@ constexpr const char* kExitCodes = R"(Exit codes:
   1  a file is unstable, has floating bricks, has no equilibrium, or a build step falls (--steps)
   2  usage error, or a file cannot be read or analysed (missing, a directory, not text, no parts,
      a malformed type-1 line)
-  3  --strict was given and a file holds parts that could not be analysed as bricks
+  3  --strict was given and a file holds parts that could not be analysed as bricks (without
+     --strict, a file none of whose parts is analysable says so and counts as 0)
   4  the solver could not decide (iteration limit or numerical trouble)
 When files differ, the highest of 2, 1, 4, 3 in that order wins.)";
 
