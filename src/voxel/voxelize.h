@@ -1,0 +1,21 @@
+#pragma once
+#include "mesh/mesh.h"
+#include "voxel/voxel_grid.h"
+
+namespace lego::voxel {
+
+struct VoxelizeOptions {
+  int height_bricks = 20;         // the model's height in voxels (bricks); the aspect is kept
+  size_t max_voxels = 8'000'000;  // refuse grids larger than this (InputError)
+};
+
+// Surface voxels by exact triangle–box overlap (separating axes), so thin walls and sharp
+// features keep their voxels; inside voxels by majority vote of ray parity along x, y and z,
+// which stays right for meshes with holes, open faces or flipped normals where one axis lies.
+VoxelGrid voxelize(const mesh::Mesh& mesh, const VoxelizeOptions& options);
+
+// Keeps the voxels within `shell` voxels of the surface (the surface voxels are the first
+// layer): deeper Inside voxels become Empty. shell <= 0 keeps the model solid.
+void hollow(VoxelGrid& grid, int shell);
+
+}  // namespace lego::voxel

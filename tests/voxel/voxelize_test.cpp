@@ -1,0 +1,264 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include "core/error.h"
+#include "mesh/mesh.h"
+#include "voxel/voxelize.h"
+
+namespace lego::voxel {
+namespace {
+
+namespace fs = std::filesystem;
+using mesh::Vec3;
+
+fs::path scratch(const std::string& name) {
+  auto dir =
+      fs::temp_directory_path() /
+      ("lego_voxel_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+struct Obj {
+  std::vector<Vec3> v;
+  std::vector<std::array<int, 3>> f;  // 0-based
+  std::vector<std::string> material;  // per face, optional
+};
+
+Obj uv_sphere(double r, int rings = 48, int segments = 96) {
+  Obj o;
+  o.v.push_back({0, r, 0});
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      double th = std::numbers::pi * i / rings, ph = 2 * std::numbers::pi * j / segments;
+      o.v.push_back(
+          {r * std::sin(th) * std::cos(ph), r * std::cos(th), r * std::sin(th) * std::sin(ph)});
+    }
+  o.v.push_back({0, -r, 0});
+  const int south = int(o.v.size()) - 1;
+  auto at = [&](int i, int j) { return 1 + (i - 1) * segments + (j % segments); };
+  for (int j = 0; j < segments; ++j) {
+    o.f.push_back({0, at(1, j + 1), at(1, j)});
+    o.f.push_back({south, at(rings - 1, j), at(rings - 1, j + 1)});
+  }
+  for (int i = 1; i < rings - 1; ++i)
+    for (int j = 0; j < segments; ++j) {
+      o.f.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+      o.f.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  return o;
+}
+
+// An axis-aligned box [0, s]³ as 12 triangles, face by face: -x +x -y +y -z +z.
+Obj box(double s, bool with_top = true) {
+  Obj o;
+  for (int i = 0; i < 8; ++i) o.v.push_back({s * (i & 1), s * ((i >> 1) & 1), s * ((i >> 2) & 1)});
+  const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  const char* names[6] = {"minus_x", "plus_x", "minus_y", "plus_y", "minus_z", "plus_z"};
+  for (int k = 0; k < 6; ++k) {
+    if (!with_top && k == 3) continue;
+    o.f.push_back({faces[k][0], faces[k][1], faces[k][2]});
+    o.f.push_back({faces[k][0], faces[k][2], faces[k][3]});
+    o.material.push_back(names[k]);
+    o.material.push_back(names[k]);
+  }
+  return o;
+}
+
+fs::path write_obj(const Obj& o, const std::string& name, const std::string& mtl = "") {
+  auto path = scratch(name);
+  std::ofstream out(path);
+  if (!mtl.empty()) {
+    std::ofstream(path.parent_path() / "colors.mtl") << mtl;
+    out << "mtllib colors.mtl\n";
+  }
+  for (const auto& v : o.v) out << "v " << v.x << " " << v.y << " " << v.z << "\n";
+  for (size_t i = 0; i < o.f.size(); ++i) {
+    if (!o.material.empty() && (i == 0 || o.material[i] != o.material[i - 1]))
+      out << "usemtl " << o.material[i] << "\n";
+    out << "f " << o.f[i][0] + 1 << " " << o.f[i][1] + 1 << " " << o.f[i][2] + 1 << "\n";
+  }
+  return path;
+}
+
+double voxel_volume(const VoxelGrid& g) {
+  return g.stud * g.stud * g.brick;
+}
+
+TEST(Voxelize, SolidSphereMatchesItsVolume) {
+  const double r = 10;
+  // Surface voxels are every voxel the surface touches, half a voxel outside on average: the
+  // excess shrinks with resolution (+17% at 24 bricks high), so measure at 60 bricks high.
+  VoxelGrid g =
+      voxelize(mesh::load_mesh(write_obj(uv_sphere(r), "sphere.obj")), {.height_bricks = 60});
+  EXPECT_EQ(g.height, 60);
+  EXPECT_EQ(g.width,
+            int(std::ceil(20 / g.stud - 1e-9)));  // LEGO proportions: more studs than bricks
+  const double expected = 4.0 / 3.0 * std::numbers::pi * r * r * r / voxel_volume(g);
+  EXPECT_NEAR(double(g.filled()), expected, 0.10 * expected);
+  EXPECT_EQ(g.at(g.width / 2, g.height / 2, g.depth / 2), Cell::Inside);
+}
+
+TEST(Voxelize, OpenBoxHoleAndFlippedNormalsStillFill) {
+  const double s = 12;
+  VoxelGrid open =
+      voxelize(mesh::load_mesh(write_obj(box(s, false), "open.obj")), {.height_bricks = 10});
+  const size_t all = size_t(open.width) * open.height * open.depth;
+  EXPECT_EQ(open.filled(), all);  // the box fills its whole grid, top face or not
+  Obj holed = uv_sphere(10);
+  holed.f.erase(holed.f.begin() + 200, holed.f.begin() + 260);  // a hole in the northern cap
+  for (size_t i = 0; i < holed.f.size(); i += 3)
+    std::swap(holed.f[i][1], holed.f[i][2]);  // flip a third
+  VoxelGrid g = voxelize(mesh::load_mesh(write_obj(holed, "holed.obj")), {.height_bricks = 60});
+  const double expected = 4.0 / 3.0 * std::numbers::pi * 1000 / voxel_volume(g);
+  EXPECT_NEAR(double(g.filled()), expected, 0.10 * expected);
+}
+
+TEST(Voxelize, ThinWallKeepsItsVoxels) {
+  Obj wall;  // a single square, no thickness, standing in the middle of a box's grid
+  wall.v = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}};
+  wall.f = {{0, 1, 2}, {0, 2, 3}};
+  VoxelGrid g = voxelize(mesh::load_mesh(write_obj(wall, "wall.obj")), {.height_bricks = 10});
+  EXPECT_EQ(g.count(Cell::Surface), size_t(g.width) * g.height);  // one layer, no gaps
+  EXPECT_EQ(g.count(Cell::Inside), 0u);
+}
+
+TEST(Voxelize, CubeFacesKeepTheirColours) {
+  const char* mtl =
+      "newmtl minus_x\nKd 1 0 0\nnewmtl plus_x\nKd 0 1 0\nnewmtl minus_y\nKd 0 0 1\n"
+      "newmtl plus_y\nKd 1 1 0\nnewmtl minus_z\nKd 0 1 1\nnewmtl plus_z\nKd 1 0 1\n";
+  VoxelGrid g =
+      voxelize(mesh::load_mesh(write_obj(box(12, true), "cube.obj", mtl)), {.height_bricks = 12});
+  const int cx = g.width / 2, cy = g.height / 2, cz = g.depth / 2;
+  auto rgb = [&](int x, int y, int z) {
+    EXPECT_EQ(g.at(x, y, z), Cell::Surface) << x << " " << y << " " << z;
+    return g.color[g.index(x, y, z)];
+  };
+  auto expect = [](mesh::Rgb c, float r, float gg, float b) {
+    EXPECT_NEAR(c.r, r, 0.01);
+    EXPECT_NEAR(c.g, gg, 0.01);
+    EXPECT_NEAR(c.b, b, 0.01);
+  };
+  expect(rgb(0, cy, cz), 1, 0, 0);
+  expect(rgb(g.width - 1, cy, cz), 0, 1, 0);
+  expect(rgb(cx, 0, cz), 0, 0, 1);
+  expect(rgb(cx, g.height - 1, cz), 1, 1, 0);
+  expect(rgb(cx, cy, 0), 0, 1, 1);
+  expect(rgb(cx, cy, g.depth - 1), 1, 0, 1);
+}
+
+TEST(Voxelize, HollowingLeavesAConnectedShell) {
+  VoxelGrid g =
+      voxelize(mesh::load_mesh(write_obj(uv_sphere(15), "big.obj")), {.height_bricks = 30});
+  const size_t solid = g.filled();
+  hollow(g, 3);
+  EXPECT_LT(g.filled(), solid);
+  EXPECT_EQ(g.at(g.width / 2, g.height / 2, g.depth / 2), Cell::Empty);
+  // Every kept voxel is within 3 layers: its 6-neighbour distance to a surface voxel is < 3.
+  std::vector<int> dist(g.cells.size(), -1);
+  std::deque<std::array<int, 3>> q;
+  for (int y = 0; y < g.height; ++y)
+    for (int z = 0; z < g.depth; ++z)
+      for (int x = 0; x < g.width; ++x)
+        if (g.at(x, y, z) == Cell::Surface) dist[g.index(x, y, z)] = 0, q.push_back({x, y, z});
+  size_t reached = q.size();
+  while (!q.empty()) {
+    auto [x, y, z] = q.front();
+    q.pop_front();
+    for (auto [dx, dy, dz] :
+         {std::array{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}})
+      if (g.at(x + dx, y + dy, z + dz) == Cell::Inside &&
+          dist[g.index(x + dx, y + dy, z + dz)] < 0) {
+        dist[g.index(x + dx, y + dy, z + dz)] = dist[g.index(x, y, z)] + 1;
+        EXPECT_LT(dist[g.index(x + dx, y + dy, z + dz)], 3);
+        q.push_back({x + dx, y + dy, z + dz});
+        ++reached;
+      }
+  }
+  EXPECT_EQ(reached, g.filled());
+  EXPECT_GT(g.count(Cell::Inside), 0u);  // the shell is thicker than the surface
+  // And it is one piece: a flood fill over kept voxels from one of them reaches all.
+  std::vector<char> seen(g.cells.size(), 0);
+  size_t start = 0;
+  while (g.cells[start] == Cell::Empty) ++start;
+  std::vector<size_t> stack{start};
+  seen[start] = 1;
+  size_t count = 0;
+  while (!stack.empty()) {
+    size_t id = stack.back();
+    stack.pop_back();
+    ++count;
+    const int x = int(id % g.width), z = int((id / g.width) % g.depth),
+              y = int(id / (size_t(g.width) * g.depth));
+    for (auto [dx, dy, dz] :
+         {std::array{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}})
+      if (g.at(x + dx, y + dy, z + dz) != Cell::Empty && !seen[g.index(x + dx, y + dy, z + dz)]) {
+        seen[g.index(x + dx, y + dy, z + dz)] = 1;
+        stack.push_back(g.index(x + dx, y + dy, z + dz));
+      }
+  }
+  EXPECT_EQ(count, g.filled());
+}
+
+TEST(Mesh, ReadsStlAndPlyWithVertexColours) {
+  auto stl = scratch("tetra.stl");
+  std::ofstream(stl) << "solid t\n"
+                        "facet normal 0 0 -1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 "
+                        "0\nendloop\nendfacet\n"
+                        "facet normal 0 -1 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 1 0 "
+                        "0\nendloop\nendfacet\n"
+                        "facet normal -1 0 0\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 0 0 "
+                        "1\nendloop\nendfacet\n"
+                        "facet normal 1 1 1\nouter loop\nvertex 1 0 0\nvertex 0 0 1\nvertex 0 1 "
+                        "0\nendloop\nendfacet\n"
+                        "endsolid t\n";
+  EXPECT_EQ(mesh::load_mesh(stl).triangles.size(), 4u);
+  auto ply = scratch("tri.ply");
+  std::ofstream(ply)
+      << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+         "0 0 0 255 0 0\n1 0 0 255 0 0\n0 1 0 255 0 0\n3 0 1 2\n";
+  auto m = mesh::load_mesh(ply);
+  ASSERT_EQ(m.triangles.size(), 1u);
+  EXPECT_NEAR(m.triangles[0].color[0].r, 1.0, 1e-6);
+  EXPECT_NEAR(m.triangles[0].color[0].g, 0.0, 1e-6);
+  // z up in the file: the mesh comes back y up.
+  auto z_up = mesh::load_mesh(ply, {.up = mesh::UpAxis::Z, .default_color = {}});
+  EXPECT_NEAR(z_up.triangles[0].v[2].z, -1.0, 1e-9);
+}
+
+TEST(Mesh, BadInputIsAClearError) {
+  auto expect_error = [](const fs::path& p, const std::string& needle) {
+    try {
+      mesh::load_mesh(p);
+      ADD_FAILURE() << "no error for " << p;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  expect_error("/nonexistent/mesh.obj", "no such file");
+  auto garbage = scratch("garbage.stl");
+  std::ofstream(garbage) << "this is not a mesh at all";
+  expect_error(garbage, "cannot be read");
+  auto points = scratch("points.obj");
+  std::ofstream(points) << "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  expect_error(points, "");
+  Obj s = uv_sphere(10);
+  try {
+    voxelize(mesh::load_mesh(write_obj(s, "big.obj")),
+             {.height_bricks = 400, .max_voxels = 1000000});
+    ADD_FAILURE() << "no budget error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("budget"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace lego::voxel
