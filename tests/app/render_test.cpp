@@ -69,7 +69,8 @@ class LeoCad : public testing::Test {
   void SetUp() override {
     if (!have("leocad") || !have("xvfb-run")) GTEST_SKIP() << "leocad or xvfb-run is not installed";
     dir_ = fs::temp_directory_path() /
-           ("lego_render_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("lego_render_" +
+            std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "mesh/mesh.h"
+#include "voxel/palette.h"
 #include "voxel/voxelize.h"
 
 namespace lego::voxel {
@@ -258,6 +259,34 @@ TEST(Mesh, BadInputIsAClearError) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("budget"), std::string::npos);
   }
+}
+
+}  // namespace
+}  // namespace lego::voxel
+
+namespace lego::voxel {
+namespace {
+
+TEST(Palette, CiedeTwoThousandMatchesPublishedPairs) {
+  // Sharma, Wu & Dalal (2005), test data pairs 1, 7 and 17.
+  EXPECT_NEAR(ciede2000({50, 2.6772, -79.7751}, {50, 0, -82.7485}), 2.0425, 1e-4);
+  EXPECT_NEAR(ciede2000({50, 0, 0}, {50, -1, 2}), 2.3669, 1e-4);
+  EXPECT_NEAR(ciede2000({50, 2.5, 0}, {73, 25, -18}), 27.1492, 1e-4);
+}
+
+TEST(Palette, NearestLDrawColours) {
+  const auto& table = ldraw::ColorTable::standard();
+  Palette paper = Palette::paper(table);
+  EXPECT_EQ(paper.codes().size(), 8u);
+  EXPECT_EQ(paper.nearest({1, 1, 1}), 15);
+  EXPECT_EQ(paper.nearest({0.05f, 0.05f, 0.05f}), 0);
+  EXPECT_EQ(paper.nearest({0.8f, 0.05f, 0.05f}), 4);
+  EXPECT_EQ(paper.nearest({0.1f, 0.3f, 0.8f}), 1);
+  EXPECT_EQ(paper.nearest({0.9f, 0.5f, 0.1f}), 25);
+  EXPECT_EQ(Palette::of({4, 14}, table).nearest({1, 1, 1}),
+            14);  // only what it has: the lighter one
+  EXPECT_THROW(Palette::of({4, 9999}, table), InputError);
+  EXPECT_GT(Palette::all(table).codes().size(), 30u);
 }
 
 }  // namespace
