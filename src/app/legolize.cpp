@@ -71,6 +71,12 @@ int main(int argc, char** argv) {
                "write the voxel grid as 1x1 bricks, one per kept voxel");
   app.add_option("--height", height, "model height in bricks (default 20)")
       ->check(CLI::Range(1, 10000));
+  std::string size;
+  double scale = 0;
+  app.add_option("--size", size,
+                 "fit within W studs x H bricks x D studs, as WxHxD (overrides --height)");
+  app.add_option("--scale", scale, "millimetres per mesh unit (overrides --height and --size)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--up", up, "the mesh's up axis")->check(CLI::IsMember({"x", "y", "z"}));
   app.add_option("--shell", shell, "keep voxels within N voxels of the surface (default 3)")
       ->check(CLI::Range(1, 1000));
@@ -96,7 +102,18 @@ int main(int argc, char** argv) {
     mesh::MeshOptions mesh_options;
     mesh_options.up = up == "x" ? mesh::UpAxis::X : up == "z" ? mesh::UpAxis::Z : mesh::UpAxis::Y;
     const mesh::Mesh m = mesh::load_mesh(input, mesh_options);
-    voxel::VoxelGrid grid = voxel::voxelize(m, {.height_bricks = height, .max_voxels = max_voxels});
+    voxel::VoxelizeOptions vo{
+        .height_bricks = height, .fit = {0, 0, 0}, .mm_per_unit = scale, .max_voxels = max_voxels};
+    if (!size.empty()) {
+      char x1 = 0, x2 = 0, extra = 0;
+      std::istringstream in(size);
+      if (!(in >> vo.fit[0] >> x1 >> vo.fit[1] >> x2 >> vo.fit[2]) || (x1 != 'x' && x1 != 'X') ||
+          (x2 != 'x' && x2 != 'X') || (in >> extra) || vo.fit[0] < 1 || vo.fit[1] < 1 ||
+          vo.fit[2] < 1)
+        throw InputError("", 0,
+                         "--size '" + size + "': expected WxHxD, three positive whole numbers");
+    }
+    voxel::VoxelGrid grid = voxel::voxelize(m, vo);
     if (!solid) voxel::hollow(grid, shell);
     Assembly a = voxel_assembly(grid, palette);
     ldraw::WriteOptions w;

@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <assimp/Importer.hpp>
 #include <cmath>
+#include <map>
 #include <system_error>
 
 #include "core/error.h"
+#include "mesh/image.h"
 
 namespace lego::mesh {
 namespace {
@@ -34,7 +36,71 @@ Rgb material_color(const aiMaterial* m, const Rgb& fallback) {
   return fallback;
 }
 
+// The diffuse or base color map of a material, loaded once per path; -1 when there is none.
+int material_texture(const aiScene* scene, const aiMaterial* m, const std::filesystem::path& dir,
+                     Mesh& out, std::map<std::string, int>& loaded) {
+  aiString name;
+  if (!m || (m->GetTexture(aiTextureType_BASE_COLOR, 0, &name) != AI_SUCCESS &&
+             m->GetTexture(aiTextureType_DIFFUSE, 0, &name) != AI_SUCCESS))
+    return -1;
+  const std::string key = name.C_Str();
+  if (auto it = loaded.find(key); it != loaded.end()) return it->second;
+  Texture t;
+  std::string why;
+  if (const aiTexture* embedded = scene->GetEmbeddedTexture(name.C_Str())) {
+    if (embedded->mHeight == 0) {  // compressed (PNG, JPEG...): mWidth is its size in bytes
+      decode_image(reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth, t,
+                   why);
+    } else {
+      t.width = int(embedded->mWidth);
+      t.height = int(embedded->mHeight);
+      for (unsigned i = 0; i < embedded->mWidth * embedded->mHeight; ++i)
+        t.rgb.insert(t.rgb.end(),
+                     {embedded->pcData[i].r, embedded->pcData[i].g, embedded->pcData[i].b});
+    }
+  } else {
+    std::string file = key;
+    std::replace(file.begin(), file.end(), '\\', '/');
+    load_image(dir / file, t, why);
+  }
+  int index = -1;
+  if (t.width > 0) {
+    index = int(out.textures.size());
+    out.textures.push_back(std::move(t));
+  }
+  loaded[key] = index;  // a texture that cannot be read leaves the material color in charge
+  return index;
+}
+
 }  // namespace
+
+Rgb Texture::sample(float u, float v) const {
+  // Texture v runs upwards, image rows downwards; repeat outside [0, 1].
+  const float x = (u - std::floor(u)) * width - 0.5f, y = (1 - (v - std::floor(v))) * height - 0.5f;
+  const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+  const float fx = x - x0, fy = y - y0;
+  auto px = [&](int i, int j, int c) {
+    i = ((i % width) + width) % width;
+    j = ((j % height) + height) % height;
+    return rgb[(size_t(j) * width + i) * 3 + c] / 255.0f;
+  };
+  float out[3];
+  for (int c = 0; c < 3; ++c)
+    out[c] = (1 - fy) * ((1 - fx) * px(x0, y0, c) + fx * px(x0 + 1, y0, c)) +
+             fy * ((1 - fx) * px(x0, y0 + 1, c) + fx * px(x0 + 1, y0 + 1, c));
+  return {out[0], out[1], out[2]};
+}
+
+Rgb Mesh::color_at(const Triangle& t, double b0, double b1, double b2) const {
+  if (t.texture >= 0) {
+    const float u = float(b0 * t.uv[0][0] + b1 * t.uv[1][0] + b2 * t.uv[2][0]);
+    const float v = float(b0 * t.uv[0][1] + b1 * t.uv[1][1] + b2 * t.uv[2][1]);
+    return textures[t.texture].sample(u, v);
+  }
+  return {float(b0 * t.color[0].r + b1 * t.color[1].r + b2 * t.color[2].r),
+          float(b0 * t.color[0].g + b1 * t.color[1].g + b2 * t.color[2].g),
+          float(b0 * t.color[0].b + b1 * t.color[1].b + b2 * t.color[2].b)};
+}
 
 Mesh load_mesh(const std::filesystem::path& path, const MeshOptions& options) {
   std::error_code ec;
@@ -51,16 +117,24 @@ Mesh load_mesh(const std::filesystem::path& path, const MeshOptions& options) {
                      fmt::format("the mesh cannot be read: {}", importer.GetErrorString()));
   Mesh out;
   out.source = path.string();
+  std::map<std::string, int> loaded;
   for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
     const aiMesh* m = scene->mMeshes[mi];
-    const Rgb base = material_color(scene->mMaterials[m->mMaterialIndex], options.default_color);
+    const aiMaterial* material = scene->mMaterials[m->mMaterialIndex];
+    const Rgb base = material_color(material, options.default_color);
     const bool vertex_colors = m->HasVertexColors(0);
+    // Most specific first: a texture through UVs, then vertex colors, then the material's.
+    const int texture = m->HasTextureCoords(0)
+                            ? material_texture(scene, material, path.parent_path(), out, loaded)
+                            : -1;
     for (unsigned fi = 0; fi < m->mNumFaces; ++fi) {
       const aiFace& f = m->mFaces[fi];
       if (f.mNumIndices != 3) continue;  // points and lines carry no surface
       Triangle t;
+      t.texture = texture;
       for (int k = 0; k < 3; ++k) {
         const unsigned vi = f.mIndices[k];
+        if (texture >= 0) t.uv[k] = {m->mTextureCoords[0][vi].x, m->mTextureCoords[0][vi].y};
         t.v[k] = to_y_up(m->mVertices[vi], options.up);
         if (!std::isfinite(t.v[k].x) || !std::isfinite(t.v[k].y) || !std::isfinite(t.v[k].z))
           throw InputError(path.string(), 0, "the mesh has a vertex with a non-finite coordinate");

@@ -18,12 +18,26 @@ struct Rgb {
 struct Triangle {
   std::array<Vec3, 3> v;
   std::array<Rgb, 3> color;  // per corner: vertex colors, else the material's, else the default
+  int texture = -1;          // index into Mesh::textures; it takes precedence over `color`
+  std::array<std::array<float, 2>, 3> uv{};
+};
+
+// An RGB image, rows from the top, sampled with wrap-around (repeat) and bilinear filtering.
+struct Texture {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgb;
+  Rgb sample(float u, float v) const;
 };
 
 struct Mesh {
   std::vector<Triangle> triangles;
+  std::vector<Texture> textures;
   Vec3 min, max;  // bounding box
   std::string source;
+
+  // The color at barycentric coordinates (b0, b1, b2) of a triangle: its texture through the
+  // UVs, else its corner colors interpolated.
+  Rgb color_at(const Triangle& t, double b0, double b1, double b2) const;
 };
 
 enum class UpAxis { X, Y, Z };

@@ -55,18 +55,30 @@ size_t VoxelGrid::count(Cell c) const {
 }
 
 VoxelGrid voxelize(const mesh::Mesh& m, const VoxelizeOptions& o) {
-  if (o.height_bricks < 1) throw InputError(m.source, 0, "the height must be at least one brick");
   VoxelGrid g;
-  const double mesh_height = m.max.y - m.min.y;
-  if (!(mesh_height > 0))
-    throw InputError(m.source, 0, "the mesh is flat: it has no height to scale");
-  // A brick is 24 LDU high, a stud 20 LDU wide.
-  g.brick = mesh_height / o.height_bricks;
-  g.stud = g.brick * kLduPerStud / double(kPlatesPerBrick * kLduPerPlate);
+  const double ex = m.max.x - m.min.x, ey = m.max.y - m.min.y, ez = m.max.z - m.min.z;
+  if (!(ey > 0) && !(ex > 0) && !(ez > 0)) throw InputError(m.source, 0, "the mesh has no extent");
+  // A brick is 24 LDU high, a stud 20 LDU wide: a voxel is 1.2 times taller than wide.
+  const double tall = double(kPlatesPerBrick * kLduPerPlate) / kLduPerStud;
+  if (o.mm_per_unit > 0) {
+    g.brick = kMmPerPlate * kPlatesPerBrick / o.mm_per_unit;
+  } else if (o.fit[0] > 0 && o.fit[1] > 0 && o.fit[2] > 0) {
+    g.brick = std::max({ey / o.fit[1], ex / o.fit[0] * tall, ez / o.fit[2] * tall});
+  } else {
+    if (o.height_bricks < 1) throw InputError(m.source, 0, "the height must be at least one brick");
+    if (!(ey > 0))
+      throw InputError(m.source, 0,
+                       "the mesh is flat: it has no height to scale (use --size or --scale)");
+    g.brick = ey / o.height_bricks;
+  }
+  g.stud = g.brick / tall;
   g.origin = m.min;
-  g.width = std::max(1, int(std::ceil((m.max.x - m.min.x) / g.stud - 1e-9)));
-  g.height = o.height_bricks;
-  g.depth = std::max(1, int(std::ceil((m.max.z - m.min.z) / g.stud - 1e-9)));
+  auto cells = [](double extent, double size) {
+    return std::max(1, int(std::ceil(extent / size - 1e-9)));
+  };
+  g.width = cells(ex, g.stud);
+  g.height = cells(ey, g.brick);
+  g.depth = cells(ez, g.stud);
   const double total = double(g.width) * g.height * g.depth;
   if (total > double(o.max_voxels))
     throw InputError(m.source, 0,
@@ -91,9 +103,7 @@ VoxelGrid voxelize(const mesh::Mesh& m, const VoxelizeOptions& o) {
       hi[a] =
           std::clamp(int(std::floor(std::max({tri[0][a], tri[1][a], tri[2][a]}))), 0, size[a] - 1);
     }
-    const mesh::Rgb mean{(t.color[0].r + t.color[1].r + t.color[2].r) / 3,
-                         (t.color[0].g + t.color[1].g + t.color[2].g) / 3,
-                         (t.color[0].b + t.color[1].b + t.color[2].b) / 3};
+    const mesh::Rgb mean = m.color_at(t, 1.0 / 3, 1.0 / 3, 1.0 / 3);
     // Area-weighted color: sample the triangle on a grid finer than half a voxel.
     const double area_world = [&] {
       V a{t.v[1].x - t.v[0].x, t.v[1].y - t.v[0].y, t.v[1].z - t.v[0].z};
@@ -121,9 +131,10 @@ VoxelGrid voxelize(const mesh::Mesh& m, const VoxelizeOptions& o) {
                     z = std::clamp(int(p[2]), 0, g.depth - 1);
           const size_t id = g.index(x, y, z);
           const double w = area_world / (double(n) * n);
-          g.color[id].r += float(w * (b0 * t.color[0].r + b1 * t.color[1].r + b2 * t.color[2].r));
-          g.color[id].g += float(w * (b0 * t.color[0].g + b1 * t.color[1].g + b2 * t.color[2].g));
-          g.color[id].b += float(w * (b0 * t.color[0].b + b1 * t.color[1].b + b2 * t.color[2].b));
+          const mesh::Rgb c = m.color_at(t, b0, b1, b2);
+          g.color[id].r += float(w * c.r);
+          g.color[id].g += float(w * c.g);
+          g.color[id].b += float(w * c.b);
           weight[id] += w;
         }
     for (int y = lo[1]; y <= hi[1]; ++y)

@@ -1,12 +1,19 @@
 #pragma once
+#include <array>
+#include <cstddef>
+
 #include "mesh/mesh.h"
 #include "voxel/voxel_grid.h"
 
 namespace lego::voxel {
 
+// How big the model comes out, keeping the mesh's aspect: mm_per_unit if set, else fit if set,
+// else height_bricks.
 struct VoxelizeOptions {
-  int height_bricks = 20;         // the model's height in voxels (bricks); the aspect is kept
-  size_t max_voxels = 8'000'000;  // refuse grids larger than this (InputError)
+  int height_bricks = 20;           // the model's height in bricks
+  std::array<int, 3> fit{0, 0, 0};  // fit within W studs x H bricks x D studs
+  double mm_per_unit = 0;           // the mesh's unit in millimetres (a brick is 9.6 mm high)
+  size_t max_voxels = 8'000'000;    // refuse grids larger than this (InputError)
 };
 
 // Surface voxels by exact triangle–box overlap (separating axes), so thin walls and sharp

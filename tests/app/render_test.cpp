@@ -2,7 +2,6 @@
 // Skips when leocad or xvfb-run is not installed.
 #include <gtest/gtest.h>
 
-#include <stb_image.h>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +9,7 @@
 #include "app/run_tool.h"
 #include "core/brick_catalog.h"
 #include "ldraw/reader.h"
+#include "mesh/image.h"
 #include "test_paths.h"
 
 namespace lego {
@@ -34,11 +34,12 @@ Image render(const fs::path& library, const fs::path& model, const fs::path& png
                     " >/dev/null 2>&1";
   Image image;
   if (std::system(cmd.c_str()) != 0 || !fs::exists(png)) return image;
-  int channels = 0;
-  unsigned char* data = stbi_load(png.c_str(), &image.width, &image.height, &channels, 3);
-  if (!data) return image;
-  image.rgb.assign(data, data + size_t(image.width) * image.height * 3);
-  stbi_image_free(data);
+  mesh::Texture decoded;
+  std::string why;
+  if (!mesh::load_image(png, decoded, why)) return image;
+  image.width = decoded.width;
+  image.height = decoded.height;
+  image.rgb = std::move(decoded.rgb);
   return image;
 }
 
