@@ -84,6 +84,9 @@ int main(int argc, char** argv) {
   app.add_option("--palette", palette_spec,
                  "paper (the paper's eight colours), all, or LDraw codes: 15,4,1");
   app.add_option("--max-voxels", max_voxels, "refuse grids larger than this (default 8,000,000)");
+  int default_color = -1;
+  app.add_option("--default-color", default_color,
+                 "LDraw colour for surfaces the mesh gives no colour (default: grey)");
   app.footer("Exit codes: 0 written; 2 usage error or bad input (the output is then not written).");
   try {
     app.parse(argc, argv);
@@ -100,6 +103,15 @@ int main(int argc, char** argv) {
   try {
     const voxel::Palette palette = parse_palette(palette_spec);
     mesh::MeshOptions mesh_options;
+    if (default_color >= 0) {
+      auto rgb = ldraw::ColorTable::standard().rgb(default_color);
+      if (!rgb)
+        throw InputError(
+            "", 0,
+            "--default-color: " + std::to_string(default_color) + " is not in the colour table");
+      mesh_options.default_color = {((*rgb >> 16) & 255) / 255.0f, ((*rgb >> 8) & 255) / 255.0f,
+                                    (*rgb & 255) / 255.0f};
+    }
     mesh_options.up = up == "x" ? mesh::UpAxis::X : up == "z" ? mesh::UpAxis::Z : mesh::UpAxis::Y;
     const mesh::Mesh m = mesh::load_mesh(input, mesh_options);
     voxel::VoxelizeOptions vo{

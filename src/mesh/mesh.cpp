@@ -29,6 +29,11 @@ Vec3 to_y_up(const aiVector3D& p, UpAxis up) {
 }
 
 Rgb material_color(const aiMaterial* m, const Rgb& fallback) {
+  // A file without materials gets Assimp's own grey "DefaultMaterial": that is no color given.
+  aiString name;
+  if (m && m->Get(AI_MATKEY_NAME, name) == AI_SUCCESS &&
+      std::string(name.C_Str()) == AI_DEFAULT_MATERIAL_NAME)
+    return fallback;
   aiColor4D c;
   if (m && (aiGetMaterialColor(m, AI_MATKEY_BASE_COLOR, &c) == AI_SUCCESS ||
             aiGetMaterialColor(m, AI_MATKEY_COLOR_DIFFUSE, &c) == AI_SUCCESS))

@@ -130,6 +130,29 @@ TEST(Legolize, BadInputExitsTwoAndWritesNothing) {
   EXPECT_NE(full.err.find("--voxels-only"), std::string::npos);
 }
 
+TEST(Legolize, DefaultColourAndNonFiniteCoordinates) {
+  auto obj = scratch("plain.obj");
+  std::ofstream(obj) << "v 0 0 0\nv 4 0 0\nv 0 4 0\nv 0 0 4\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  auto out = scratch("plain.ldr");
+  ASSERT_EQ(run_tool("legolize", {obj.string(), "--voxels-only", "--height", "4", "--solid",
+                                  "--palette", "all", "--default-color", "4", "-o", out.string()})
+                .exit_code,
+            0);
+  int red = 0;
+  for (const auto& p : ldraw::read_file(out).parts) red += p.color == 4;
+  EXPECT_GT(red, 0);  // the uncoloured surface takes the user's default
+  EXPECT_EQ(run_tool("legolize",
+                     {obj.string(), "--voxels-only", "--default-color", "9999", "-o", out.string()})
+                .exit_code,
+            2);
+  auto nan = scratch("nan.obj");
+  std::ofstream(nan) << "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n";
+  auto run =
+      run_tool("legolize", {nan.string(), "--voxels-only", "-o", scratch("nan.ldr").string()});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_FALSE(fs::exists(scratch("nan.ldr")));
+}
+
 TEST(Legolize, TheBunnyVoxelizes) {
   SKIP_WITHOUT_SHARED();
   auto out = scratch("bunny.mpd");
