@@ -109,8 +109,7 @@ int main(int argc, char** argv) {
         throw InputError(
             "", 0,
             "--default-color: " + std::to_string(default_color) + " is not in the colour table");
-      mesh_options.default_color = {((*rgb >> 16) & 255) / 255.0f, ((*rgb >> 8) & 255) / 255.0f,
-                                    (*rgb & 255) / 255.0f};
+      mesh_options.default_color = voxel::from_hex(*rgb);
     }
     mesh_options.up = up == "x" ? mesh::UpAxis::X : up == "z" ? mesh::UpAxis::Z : mesh::UpAxis::Y;
     const mesh::Mesh m = mesh::load_mesh(input, mesh_options);

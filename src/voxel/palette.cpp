@@ -24,11 +24,11 @@ double rad(double deg) {
   return deg * std::numbers::pi / 180;
 }
 
+}  // namespace
+
 mesh::Rgb from_hex(unsigned rgb) {
   return {((rgb >> 16) & 255) / 255.0f, ((rgb >> 8) & 255) / 255.0f, (rgb & 255) / 255.0f};
 }
-
-}  // namespace
 
 Lab to_lab(const mesh::Rgb& c) {
   const double r = linear(std::clamp(double(c.r), 0.0, 1.0)),

@@ -14,6 +14,7 @@ struct Lab {
   double l = 0, a = 0, b = 0;
 };
 Lab to_lab(const mesh::Rgb& srgb);
+mesh::Rgb from_hex(unsigned rgb);  // 0xRRGGBB, as LDraw colour tables give it
 double ciede2000(const Lab& x, const Lab& y);
 
 class Palette {

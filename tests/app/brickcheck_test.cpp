@@ -31,11 +31,7 @@ json check_json(const std::vector<std::string>& args, int expected_exit) {
 }
 
 fs::path scratch(const std::string& name) {
-  auto dir = fs::temp_directory_path() /
-             ("lego_brickcheck_" +
-              std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
-  fs::create_directories(dir);
-  return dir / name;
+  return test::scratch("lego_brickcheck_", name);
 }
 
 TEST(Brickcheck, Figure7BridgesThroughTheCommandLine) {

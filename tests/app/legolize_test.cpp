@@ -15,11 +15,7 @@ namespace fs = std::filesystem;
 using test::run_tool;
 
 fs::path scratch(const std::string& name) {
-  auto dir = fs::temp_directory_path() /
-             ("lego_legolize_" +
-              std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
-  fs::create_directories(dir);
-  return dir / name;
+  return test::scratch("lego_legolize_", name);
 }
 
 // A 12-unit cube whose faces are red (-x), green (+x), blue (-y), yellow (+y), cyan (-z),

@@ -69,9 +69,7 @@ class LeoCad : public testing::Test {
  protected:
   void SetUp() override {
     if (!have("leocad") || !have("xvfb-run")) GTEST_SKIP() << "leocad or xvfb-run is not installed";
-    dir_ = fs::temp_directory_path() /
-           ("lego_render_" +
-            std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+    dir_ = test::scratch("lego_render_", "");
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

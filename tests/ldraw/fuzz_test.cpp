@@ -23,8 +23,9 @@ std::vector<std::string> seeds() {
       "0 1 0 0 1",
   };
   // Our own models always; the real ones of ../shared when it is there.
-  for (const auto& dir : {test::data_dir(), test::data_dir() / "bridges", test::data_dir() / "library" / "parts",
-                          test::shared_dir() / "ldraw-models"}) {
+  for (const auto& dir :
+       {test::data_dir(), test::data_dir() / "bridges", test::data_dir() / "library" / "parts",
+        test::shared_dir() / "ldraw-models"}) {
     if (!std::filesystem::is_directory(dir)) continue;
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
       auto ext = entry.path().extension();

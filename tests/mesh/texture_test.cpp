@@ -1,6 +1,8 @@
 // Textures through UVs, external and embedded; glTF with node transforms; size options.
 #include <gtest/gtest.h>
 
+#include "test_paths.h"
+
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -17,11 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path scratch(const std::string& name) {
-  auto dir = fs::temp_directory_path() /
-             ("lego_texture_" +
-              std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
-  fs::create_directories(dir);
-  return dir / name;
+  return test::scratch("lego_texture_", name);
 }
 
 // 4 x 1 pixels: red, red, blue, blue. Left half of u red, right half blue.

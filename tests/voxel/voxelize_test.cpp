@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "test_paths.h"
+
 #include <cmath>
 #include <deque>
 #include <filesystem>
@@ -18,11 +20,7 @@ namespace fs = std::filesystem;
 using mesh::Vec3;
 
 fs::path scratch(const std::string& name) {
-  auto dir =
-      fs::temp_directory_path() /
-      ("lego_voxel_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
-  fs::create_directories(dir);
-  return dir / name;
+  return test::scratch("lego_voxel_", name);
 }
 
 struct Obj {
