@@ -72,6 +72,15 @@ std::optional<double> parse_number(std::string_view token) {
   return value;
 }
 
+// Whether an `0 !LDRAW_ORG` value marks a part file (Part, Subpart, Primitive, Shortcut and
+// their Unofficial_ forms) rather than a model: parts are leaves, models are flattened.
+bool names_a_part(std::string_view ldraw_org) {
+  const std::string org = lower(ldraw_org);
+  for (const char* kind : {"part", "primitive", "shortcut"})  // "part" also matches Subpart
+    if (org.find(kind) != std::string::npos) return true;
+  return false;
+}
+
 struct RefLine {
   int line = 0;
   int color = kMainColor;
@@ -92,12 +101,7 @@ struct Block {
   std::vector<Entry> entries;
   size_t text_begin = 0, text_end = 0;
 
-  bool is_part() const {
-    std::string org = lower(ldraw_org);
-    for (const char* kind : {"part", "primitive", "subpart", "shortcut"})
-      if (org.find(kind) != std::string::npos) return true;
-    return false;
-  }
+  bool is_part() const { return names_a_part(ldraw_org); }
 };
 
 struct Document {
@@ -467,12 +471,9 @@ class Flattener {
   static bool header_says_part(const fs::path& path) {
     std::ifstream in(path);
     std::string line;
-    for (int i = 0; i < 20 && std::getline(in, line); ++i) {
-      std::string l = lower(line);
-      if (l.find("!ldraw_org") != std::string::npos)
-        return l.find("part") != std::string::npos || l.find("primitive") != std::string::npos ||
-               l.find("shortcut") != std::string::npos;
-    }
+    for (int i = 0; i < 20 && std::getline(in, line); ++i)
+      if (auto at = lower(line).find("!ldraw_org"); at != std::string::npos)
+        return names_a_part(std::string_view(line).substr(at + 10));
     return false;
   }
 
