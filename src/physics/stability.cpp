@@ -215,8 +215,8 @@ void solve_max_min(const EquilibriumSystem& sys, const StabilityOptions& o, Stab
   r.stats.rows = lp.rows;
   r.stats.columns = lp.columns();
   r.stats.nonzeros = int(lp.index.size());
-  // The reference form: our interior point method handles one dense column, and this form's
-  // t column is one, but its supports are free; it is solved by Clp (dual simplex by default).
+  // The reference form, kept for cross-checking: its t column is dense and its supports are
+  // free, which our interior point method does not take; Clp solves it (dual simplex by default).
   const LpMethod method = o.method == LpMethod::InteriorPoint ? LpMethod::DualSimplex : o.method;
   LpSolution s = solve_lp(lp, method, o.presolve, o.scaling, o.max_seconds);
   r.stats.iterations = s.iterations;
