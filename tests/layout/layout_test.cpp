@@ -1,0 +1,356 @@
+// Layouts (paper sections 4 and 5): exact, maximal, color-true, within limits, one component.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "core/error.h"
+#include "layout/reconfigure.h"
+#include "layout/targets.h"
+#include "layout/to_assembly.h"
+#include "physics/connectivity.h"
+#include "physics/contact_graph.h"
+#include "test_paths.h"
+
+using namespace lego;
+using namespace lego::layout;
+
+namespace {
+
+// Every non-empty voxel covered by exactly one brick, no brick over an empty voxel; checked
+// from the bricks' rectangles, not from the layout's own map.
+void expect_exact(const Layout& l) {
+  const Target& t = l.target();
+  std::vector<int> cover(t.color.size(), 0);
+  for (int id : l.brick_ids()) {
+    const LayoutBrick& b = l.brick(id);
+    for (int z = b.z; z < b.max_z(); ++z)
+      for (int x = b.x; x < b.max_x(); ++x) {
+        ASSERT_TRUE(t.contains(x, b.y, z));
+        ++cover[t.index(x, b.y, z)];
+        ASSERT_EQ(l.brick_at(x, b.y, z), id);
+      }
+  }
+  for (size_t i = 0; i < cover.size(); ++i) ASSERT_EQ(cover[i], t.color[i] == kEmpty ? 0 : 1) << i;
+}
+
+bool in_family(int a, int b) {
+  const auto& f = standard_family();
+  return std::find(f.begin(), f.end(), std::pair{std::max(a, b), std::min(a, b)}) != f.end();
+}
+
+// No two bricks of a layer form a family brick together with compatible colors (hard rule).
+// Brute force over pairs: the union is a brick when its bounding box has exactly their area.
+void expect_maximal(const Layout& l, const Limits& limits = {}) {
+  std::map<int, std::vector<int>> layers;
+  for (int id : l.brick_ids()) layers[l.brick(id).y].push_back(id);
+  for (auto& [y, ids] : layers)
+    for (size_t i = 0; i < ids.size(); ++i)
+      for (size_t j = i + 1; j < ids.size(); ++j) {
+        const LayoutBrick &p = l.brick(ids[i]), &q = l.brick(ids[j]);
+        const int x0 = std::min(p.x, q.x), x1 = std::max(p.max_x(), q.max_x());
+        const int z0 = std::min(p.z, q.z), z1 = std::max(p.max_z(), q.max_z());
+        if ((x1 - x0) * (z1 - z0) != p.voxels() + q.voxels()) continue;
+        if (!in_family(x1 - x0, z1 - z0)) continue;
+        if (p.color != kIgnore && q.color != kIgnore && p.color != q.color) continue;
+        LayoutBrick m{.x = x0, .y = y, .z = z0, .size_x = x1 - x0, .size_z = z1 - z0};
+        m.color = p.color == kIgnore ? q.color : p.color;
+        if (!limits.allow(l, m)) continue;
+        ADD_FAILURE() << "bricks " << ids[i] << " and " << ids[j] << " of layer " << y
+                      << " could merge";
+        return;
+      }
+}
+
+// Hard colors: a brick's voxels ask for its color or for none.
+void expect_color_true(const Layout& l) {
+  for (int id : l.brick_ids()) {
+    const LayoutBrick& b = l.brick(id);
+    std::set<int> wanted;
+    for (int z = b.z; z < b.max_z(); ++z)
+      for (int x = b.x; x < b.max_x(); ++x)
+        if (int c = l.target().at(x, b.y, z); c != kIgnore) wanted.insert(c);
+    ASSERT_LE(wanted.size(), 1u);
+    if (!wanted.empty()) {
+      ASSERT_EQ(b.color, *wanted.begin());
+    }
+  }
+}
+
+int total_mismatches(const Layout& l) {
+  int e = 0;
+  for (int id : l.brick_ids()) e += color_mismatches(l, l.brick(id));
+  return e;
+}
+
+// Components counted independently: the physics' connectivity over the assembly's contacts.
+int physics_components(const Layout& l) {
+  auto la = to_assembly(l, BrickCatalog::standard(), 72);
+  auto graph = physics::ContactGraph::build(la.assembly, physics::GroundMode::Table);
+  return physics::analyze_connectivity(int(la.assembly.bricks.size()), graph).component_count;
+}
+
+std::vector<LayoutBrick> snapshot(const Layout& l) {
+  std::vector<LayoutBrick> out;
+  for (int id : l.brick_ids()) out.push_back(l.brick(id));
+  std::sort(out.begin(), out.end(),
+            [](auto& a, auto& b) { return std::tie(a.y, a.z, a.x) < std::tie(b.y, b.z, b.x); });
+  return out;
+}
+
+bool same(const std::vector<LayoutBrick>& a, const std::vector<LayoutBrick>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](auto& p, auto& q) {
+    return std::tie(p.x, p.y, p.z, p.size_x, p.size_z, p.color) ==
+           std::tie(q.x, q.y, q.z, q.size_x, q.size_z, q.color);
+  });
+}
+
+}  // namespace
+
+TEST(Layout, StartsWithOneUnitBrickPerVoxel) {
+  Target t = test::random_target(7, 3, 5, 0.6, 2, 1);
+  Layout l(t);
+  EXPECT_EQ(l.brick_count(), t.filled());
+  expect_exact(l);
+  EXPECT_EQ(l.count(1, 1), int(t.filled()));
+}
+
+TEST(Layout, RingsGrowThroughFacesAndSnaps) {
+  // A solid 5x3x5 block of 1x1 bricks: the 1-ring of the centre is its 6 face neighbours, the
+  // 2-ring everything within Manhattan distance 2 (inside the block).
+  Target t(5, 3, 5);
+  std::fill(t.color.begin(), t.color.end(), kIgnore);
+  Layout l(t);
+  const int centre = l.brick_at(2, 1, 2);
+  EXPECT_EQ(l.ring(std::span(&centre, 1), 0).size(), 1u);
+  EXPECT_EQ(l.ring(std::span(&centre, 1), 1).size(), 7u);
+  // Manhattan ball of radius 2 in 3D has 25 points; y is limited to 0..2, cutting the 2 at y=±2.
+  EXPECT_EQ(l.ring(std::span(&centre, 1), 2).size(), 23u);
+}
+
+TEST(Layout, RollbackRestoresTheLayoutExactly) {
+  Layout l(test::random_target(12, 4, 9, 0.8, 3, 5));
+  Random rng(3);
+  random_merge(l, l.brick_ids(), {}, rng);
+  const auto before = snapshot(l);
+  const auto counts_before = l.count(4, 2);
+  for (int k = 1; k <= 3; ++k) {
+    l.begin_edit();
+    const int seed = l.brick_ids()[rng.below(l.brick_count())];
+    reconfigure(l, std::span(&seed, 1), k, {}, rng);
+    l.rollback();
+    expect_exact(l);
+    EXPECT_TRUE(same(snapshot(l), before));
+    EXPECT_EQ(l.count(4, 2), counts_before);
+  }
+}
+
+TEST(Layout, RandomMergeIsExactMaximalAndColorTrue) {
+  for (uint64_t seed = 1; seed <= 30; ++seed) {
+    SCOPED_TRACE(seed);
+    Layout l(test::random_target(6 + int(seed % 7), 1 + int(seed % 4), 5 + int(seed % 5),
+                                 0.4 + 0.02 * double(seed), int(seed % 4), seed));
+    Random rng(seed);
+    random_merge(l, l.brick_ids(), {}, rng);
+    expect_exact(l);
+    expect_maximal(l);
+    expect_color_true(l);
+    EXPECT_EQ(total_mismatches(l), 0);
+  }
+}
+
+TEST(Layout, ReconfigurationKeepsTheLayoutExactMaximalAndColorTrue) {
+  for (uint64_t seed = 1; seed <= 20; ++seed) {
+    SCOPED_TRACE(seed);
+    Layout l(test::random_target(10, 4, 8, 0.7, 2, seed));
+    Random rng(seed);
+    random_merge(l, l.brick_ids(), {}, rng);
+    for (int step = 0; step < 10; ++step) {
+      l.begin_edit();
+      const int critical = l.brick_ids()[rng.below(l.brick_count())];
+      reconfigure(l, std::span(&critical, 1), 1 + step % 3, {}, rng);
+      l.commit();
+    }
+    expect_exact(l);
+    expect_maximal(l);
+    expect_color_true(l);
+  }
+}
+
+TEST(Layout, SoftColorsMismatchLessAsWcGrows) {
+  // Stripes of two colors one voxel wide: the hard rule leaves mostly 1xN bricks along them;
+  // the soft rule trades color for bigger bricks, less so as w_c grows.
+  Target t(24, 4, 24);
+  for (int y = 0; y < 4; ++y)
+    for (int z = 0; z < 24; ++z)
+      for (int x = 0; x < 24; ++x) t.set(x, y, z, (x + z) % 2 ? 4 : 1);
+  std::vector<double> mismatches;
+  for (double w_c : {0.01, 0.3, 3.0, 1000.0}) {
+    double sum = 0;
+    for (uint64_t seed = 1; seed <= 5; ++seed) {
+      Layout l(t);
+      Random rng(seed);
+      MergeRules rules;
+      rules.color = ColorRule::Soft;
+      rules.w_c = w_c;
+      random_merge(l, l.brick_ids(), rules, rng);
+      expect_exact(l);
+      sum += total_mismatches(l);
+    }
+    mismatches.push_back(sum / 5);
+  }
+  for (size_t i = 1; i < mismatches.size(); ++i)
+    EXPECT_LT(mismatches[i], mismatches[i - 1]) << "w_c step " << i;
+  EXPECT_GT(mismatches.front(), 100);  // the soft rule really did merge across colors
+  EXPECT_LT(mismatches.back(), 25);    // a large w_c nearly the hard rule (1% of 2,304 voxels)
+}
+
+TEST(Layout, LimitsAreNeverExceeded) {
+  Limits limits;
+  const auto& catalog = BrickCatalog::standard();
+  limits.add("2x4:5", catalog);
+  limits.add("8x2:0", catalog);
+  limits.add("3001@4:2", catalog);  // 2x4 in red
+  limits.add("1x6@72:3", catalog);  // the inside color counts IGNORE bricks
+  for (uint64_t seed = 1; seed <= 10; ++seed) {
+    SCOPED_TRACE(seed);
+    Layout l(test::random_target(16, 3, 16, 0.9, 2, seed));
+    Random rng(seed);
+    MergeRules rules;
+    rules.limits = limits;
+    initialize_layout(l, rules, rng);
+    EXPECT_LE(l.count(4, 2), 5);
+    EXPECT_EQ(l.count(8, 2), 0);
+    EXPECT_LE(l.count(4, 2, 4), 2);
+    EXPECT_LE(l.count(6, 1, 72) + l.count(6, 1, kIgnore), 3);
+    EXPECT_TRUE(limits.exceeded(l).empty());
+    expect_exact(l);
+    expect_maximal(l, limits);
+  }
+}
+
+TEST(Layout, LimitSpecsAndInventories) {
+  const auto& catalog = BrickCatalog::standard();
+  Limits limits;
+  limits.add("4x2:7", catalog);
+  limits.add("3004@14:9", catalog);
+  EXPECT_EQ((limits.by_size.at({4, 2})), 7);
+  EXPECT_EQ((limits.by_size_color.at({2, 1, 14})), 9);
+  for (const char* bad :
+       {"2x4", "2x4:-1", "9x9x:3", "3024:5" /* a plate */, "3001@nope:4", "2x4:many", "nopart:3"})
+    EXPECT_THROW(limits.add(bad, catalog), InputError) << bad;
+
+  auto csv = test::scratch("layout_", "inventory.csv");
+  std::ofstream(csv) << "part,color,quantity\n3001,4,10\n# a comment\n1x1,,500\n\n3003,1,2\n";
+  Limits inventory;
+  inventory.read_inventory(csv, catalog);
+  EXPECT_TRUE(inventory.listed_only);
+  EXPECT_EQ((inventory.by_size_color.at({4, 2, 4})), 10);
+  EXPECT_EQ((inventory.by_size.at({1, 1})), 500);
+  // Unlisted sizes and colors may not be used at all.
+  Layout l(Target(4, 1, 4));
+  EXPECT_FALSE(inventory.allow(l, LayoutBrick{.size_x = 4, .size_z = 2, .color = 1}));
+  EXPECT_TRUE(inventory.allow(l, LayoutBrick{.size_x = 4, .size_z = 2, .color = 4}));
+  EXPECT_TRUE(inventory.allow(l, LayoutBrick{.size_x = 1, .size_z = 1, .color = 1}));
+
+  std::ofstream(csv) << "3001,4,10\n3001,4\n";
+  try {
+    Limits bad;
+    bad.read_inventory(csv, catalog);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 2);
+  }
+}
+
+TEST(Layout, OneComponentForSphereTorusAndJoinedTowers) {
+  struct Case {
+    const char* name;
+    Target target;
+  };
+  std::vector<Case> cases{{"sphere", test::hollow_sphere(10, 3, 4)},
+                          {"torus", test::torus(9, 3)},
+                          {"towers", test::two_towers(2, 8, 2, true)}};
+  int needed_algorithm_5 = 0;
+  for (auto& c : cases)
+    for (uint64_t seed = 1; seed <= 3; ++seed) {
+      SCOPED_TRACE(std::string(c.name) + " seed " + std::to_string(seed));
+      Layout l(c.target);
+      Random rng(seed);
+      const ConnectResult r = initialize_layout(l, {}, rng);
+      EXPECT_TRUE(r.single) << r.components << " components";
+      EXPECT_EQ(r.components, 1);
+      EXPECT_EQ(physics_components(l), 1);
+      expect_exact(l);
+      expect_maximal(l);
+      expect_color_true(l);
+      needed_algorithm_5 += r.components_start > 1;
+    }
+  // The random merge alone left several components at least once, so Algorithm 5 did work here.
+  EXPECT_GT(needed_algorithm_5, 0);
+}
+
+TEST(Layout, SeparateObjectsEndInNoSolution) {
+  Layout l(test::two_towers(2, 4, 3, false));
+  Random rng(1);
+  int calls = 0;
+  ConnectOptions options;
+  options.progress = [&](int, int, int) { ++calls; };
+  const ConnectResult r = initialize_layout(l, {}, rng, options);
+  EXPECT_FALSE(r.single);
+  EXPECT_EQ(r.components, 2);
+  EXPECT_EQ(r.iterations, options.fail_max);  // gave up after fail_MAX tries, never accepted
+  EXPECT_EQ(calls, r.iterations);
+  expect_exact(l);
+}
+
+TEST(Layout, FewUnitBricksOnAHollowedSphere) {
+  // Paper case study 7: 1x1 bricks are a few percent of the bricks (and less of the volume).
+  Layout l(test::hollow_sphere(15, 3, 15));
+  Random rng(7);
+  ASSERT_TRUE(initialize_layout(l, {}, rng).single);
+  const double share = double(l.count(1, 1)) / double(l.brick_count());
+  const double volume = double(l.count(1, 1)) / double(l.target().filled());
+  std::cout << "hollow sphere r=15: " << l.brick_count() << " bricks, 1x1: " << l.count(1, 1)
+            << " (" << 100 * share << "% of bricks, " << 100 * volume << "% of volume)\n";
+  EXPECT_LT(share, 0.05);
+  EXPECT_LT(volume, 0.02);
+}
+
+TEST(Layout, SameSeedSameLayoutOtherSeedOther) {
+  auto run = [](uint64_t seed) {
+    Layout l(test::hollow_sphere(8, 2, 4));
+    Random rng(seed);
+    initialize_layout(l, {}, rng);
+    return snapshot(l);
+  };
+  EXPECT_TRUE(same(run(11), run(11)));
+  EXPECT_FALSE(same(run(11), run(12)));
+}
+
+TEST(Layout, AssemblyTurnsLayersIntoStepsAndKeepsHandedness) {
+  Target t(3, 2, 2);
+  t.set(0, 0, 0, 4);  // red at voxel x=0, z=0 on the bottom layer
+  t.set(1, 0, 0, kIgnore);
+  t.set(2, 1, 1, 1);
+  t.set(2, 0, 1, kIgnore);
+  Layout l(t);
+  const auto la = to_assembly(l, BrickCatalog::standard(), 72);
+  ASSERT_EQ(la.assembly.bricks.size(), 4u);
+  for (size_t i = 0; i < la.assembly.bricks.size(); ++i) {
+    const Brick& b = la.assembly.bricks[i];
+    const LayoutBrick& lb = l.brick(la.layout_id[i]);
+    EXPECT_EQ(b.source.step, lb.y + 1);
+    EXPECT_EQ(b.min.y, lb.y * 3);
+    EXPECT_EQ(b.min.z, 1 - lb.z);  // z runs the other way (a half turn about x)
+    EXPECT_EQ(b.color, lb.color == kIgnore ? 72 : lb.color);
+  }
+  // Layers in order: step numbers never decrease.
+  for (size_t i = 1; i < la.assembly.bricks.size(); ++i)
+    EXPECT_LE(la.assembly.bricks[i - 1].source.step, la.assembly.bricks[i].source.step);
+  Loads loads;
+  loads.at_voxels.push_back({0, 1, 0, 5});
+  EXPECT_THROW(to_assembly(l, BrickCatalog::standard(), 72, loads), InputError);
+}
