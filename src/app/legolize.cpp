@@ -1,43 +1,39 @@
-// legolize: a colored mesh to a LEGO model. This version builds the voxel grid with LEGO
-// proportions (paper section 3) and writes it for inspection (--voxels-only); the brick layout
-// and its stability-aware refinement (sections 4-7) come next.
+// legolize: a colored mesh to a LEGO model that stands (paper Algorithm 1): voxels with LEGO
+// proportions, a maximal single-connected brick layout, stability-aware refinement, and LDraw
+// files with a build step per layer.
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
 #include <iostream>
 #include <sstream>
 
 #include "core/brick_catalog.h"
 #include "core/error.h"
+#include "layout/reconfigure.h"
+#include "layout/refine.h"
+#include "layout/to_assembly.h"
 #include "ldraw/writer.h"
 #include "mesh/mesh.h"
+#include "report/conversion_report.h"
+#include "report/parts_list.h"
+#include "report/render.h"
 #include "voxel/palette.h"
 #include "voxel/voxelize.h"
 
 using namespace lego;
+namespace fs = std::filesystem;
 
 namespace {
 
 constexpr int kInsideColor = 72;  // Dark Bluish Grey: voxels whose color does not matter (IGNORE)
+constexpr int kExitUnstable = 1, kExitBadInput = 2;
 
-// One 1x1 brick per kept voxel, a build step per layer.
-Assembly voxel_assembly(const voxel::VoxelGrid& g, const voxel::Palette& palette) {
-  Assembly a;
-  const BrickType* one = BrickCatalog::standard().find_by_size(1, 1, kPlatesPerBrick);
-  for (int y = 0; y < g.height; ++y)
-    for (int z = 0; z < g.depth; ++z)
-      for (int x = 0; x < g.width; ++x) {
-        const voxel::Cell c = g.at(x, y, z);
-        if (c == voxel::Cell::Empty) continue;
-        Brick b;
-        b.type = one;
-        // LDraw is right-handed with -y up, and the lattice maps to it as (x, -y, z): taking mesh
-        // z as lattice z would mirror the model. Flipping z makes it a half turn about x.
-        b.min = {x, y * kPlatesPerBrick, g.depth - 1 - z};
-        b.color =
-            c == voxel::Cell::Surface ? palette.nearest(g.color[g.index(x, y, z)]) : kInsideColor;
-        b.source.step = y + 1;
-        a.bricks.push_back(b);
-      }
-  return a;
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
 voxel::Palette parse_palette(const std::string& spec) {
@@ -54,89 +50,351 @@ voxel::Palette parse_palette(const std::string& spec) {
   return voxel::Palette::of(codes, table);
 }
 
+std::array<int, 3> parse_size(const std::string& size) {
+  std::array<int, 3> fit{0, 0, 0};
+  char x1 = 0, x2 = 0, extra = 0;
+  std::istringstream in(size);
+  if (!(in >> fit[0] >> x1 >> fit[1] >> x2 >> fit[2]) || (x1 != 'x' && x1 != 'X') ||
+      (x2 != 'x' && x2 != 'X') || (in >> extra) || fit[0] < 1 || fit[1] < 1 || fit[2] < 1)
+    throw InputError("", 0, "--size '" + size + "': expected WxHxD, three positive whole numbers");
+  return fit;
+}
+
+// "X,Y,Z:GRAMS": a weight on the brick at voxel (X, Y, Z), Y counting layers from the bottom.
+layout::VoxelLoad parse_load(const std::string& spec) {
+  layout::VoxelLoad load;
+  char c1 = 0, c2 = 0, colon = 0, extra = 0;
+  std::istringstream in(spec);
+  if (!(in >> load.x >> c1 >> load.y >> c2 >> load.z >> colon >> load.grams) || c1 != ',' ||
+      c2 != ',' || colon != ':' || (in >> extra) || !(load.grams >= 0) ||
+      !std::isfinite(load.grams))
+    throw InputError("", 0, "--load '" + spec + "': expected X,Y,Z:GRAMS (a voxel and a weight)");
+  return load;
+}
+
+// Fails before any work when an output cannot be written or would overwrite the input.
+void check_output(const std::string& option, const std::string& path, const fs::path& input) {
+  if (path.empty()) return;
+  const fs::path p(path);
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw InputError(path, 0, option + ": the folder " + dir.string() + " does not exist");
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw InputError(path, 0, option + ": the folder " + dir.string() + " is not writable");
+  if (fs::is_directory(p, ec)) throw InputError(path, 0, option + ": is a folder");
+  if (fs::exists(p, ec) && fs::equivalent(p, input, ec))
+    throw InputError(path, 0, option + ": would overwrite the input mesh");
+}
+
+std::string cm_words(double cm_gf) {
+  return std::isfinite(cm_gf) ? fmt::format("{:.3f} gf", cm_gf) : std::string("no equilibrium");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"legolize: turn a colored 3D mesh into a LEGO model"};
-  std::string input, output, up = "y", palette_spec = "paper";
-  int height = 20, shell = 3;
+  CLI::App app{"legolize: turn a colored 3D mesh into a LEGO model that stands"};
+  std::string input, output, up = "y", palette_spec = "paper", size, colors = "hard",
+                             ground = "baseplate", inventory, parts_list, bricklink, report_path,
+                             heatmap;
+  int height = 20, shell = 3, fail_max = 100, default_color = -1;
   size_t max_voxels = 8'000'000;
-  bool voxels_only = false, solid = false;
+  double scale = 0, w_c = 1, min_cm = 0, load_top = 0;
+  uint64_t seed = 1;
+  bool voxels_only = false, solid = false, no_refine = false, quiet = false;
+  std::vector<std::string> limits, loads;
   app.add_option(
          "mesh", input,
          "any mesh format Assimp reads (OBJ+MTL, STL, PLY, glTF/GLB, FBX, 3MF, OFF, DAE...)")
       ->required();
-  app.add_option("-o,--output", output, "the LDraw file to write (.ldr or .mpd)")->required();
-  app.add_flag("--voxels-only", voxels_only,
-               "write the voxel grid as 1x1 bricks, one per kept voxel");
+  app.add_option("-o,--output", output, "the LDraw model to write (.ldr or .mpd)")->required();
+
+  auto* g_size = "Size and voxels";
   app.add_option("--height", height, "model height in bricks (default 20)")
-      ->check(CLI::Range(1, 10000));
-  std::string size;
-  double scale = 0;
-  app.add_option("--size", size,
-                 "fit within W studs x H bricks x D studs, as WxHxD (overrides --height)");
+      ->check(CLI::Range(1, 10000))
+      ->group(g_size);
+  app.add_option("--size", size, "fit within W studs x H bricks x D studs, as WxHxD")
+      ->group(g_size);
   app.add_option("--scale", scale, "millimetres per mesh unit (overrides --height and --size)")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--up", up, "the mesh's up axis")->check(CLI::IsMember({"x", "y", "z"}));
+      ->check(CLI::PositiveNumber)
+      ->group(g_size);
+  app.add_option("--up", up, "the mesh's up axis")
+      ->check(CLI::IsMember({"x", "y", "z"}))
+      ->group(g_size);
   app.add_option("--shell", shell, "keep voxels within N voxels of the surface (default 3)")
-      ->check(CLI::Range(1, 1000));
-  app.add_flag("--solid", solid, "do not hollow");
+      ->check(CLI::Range(1, 1000))
+      ->group(g_size);
+  app.add_flag("--solid", solid, "do not hollow")->group(g_size);
   app.add_option("--palette", palette_spec,
-                 "paper (the paper's eight colours), all, or LDraw codes: 15,4,1");
-  app.add_option("--max-voxels", max_voxels, "refuse grids larger than this (default 8,000,000)");
-  int default_color = -1;
+                 "paper (the paper's eight colours), all, or LDraw codes: 15,4,1")
+      ->group(g_size);
   app.add_option("--default-color", default_color,
-                 "LDraw colour for surfaces the mesh gives no colour (default: grey)");
-  app.footer("Exit codes: 0 written; 2 usage error or bad input (the output is then not written).");
+                 "LDraw colour for surfaces the mesh gives no colour (default: grey)")
+      ->group(g_size);
+  app.add_option("--max-voxels", max_voxels, "refuse grids larger than this (default 8,000,000)")
+      ->group(g_size);
+  app.add_flag("--voxels-only", voxels_only, "write the voxels as 1x1 bricks and stop")
+      ->group(g_size);
+
+  auto* g_layout = "Layout";
+  app.add_option("--seed", seed, "the random seed: same input and seed, same output (default 1)")
+      ->group(g_layout);
+  app.add_option("--colors", colors,
+                 "hard: no brick spans two colors (default); soft: allow some, see --wc")
+      ->check(CLI::IsMember({"hard", "soft"}))
+      ->group(g_layout);
+  app.add_option("--wc", w_c, "soft colors: larger keeps colors truer (paper's w_c, default 1)")
+      ->check(CLI::NonNegativeNumber)
+      ->group(g_layout);
+  app.add_option("--limit", limits,
+                 "at most N bricks of a size or part, optionally in a color: 2x4:100, 2x8:0, "
+                 "3001@14:50 (repeatable)")
+      ->group(g_layout);
+  app.add_option("--inventory", inventory,
+                 "CSV part,color,quantity of the bricks you have; nothing else is used")
+      ->group(g_layout);
+  app.add_option("--fail-max", fail_max, "failed reconfigurations in a row before giving up (100)")
+      ->check(CLI::Range(1, 1000000))
+      ->group(g_layout);
+
+  auto* g_physics = "Stability";
+  app.add_option("--min-cm", min_cm, "refine until C_M exceeds this many grams-force (default 0)")
+      ->group(g_physics);
+  app.add_option("--load-top", load_top, "a weight in grams spread over the model's top knobs")
+      ->check(CLI::NonNegativeNumber)
+      ->group(g_physics);
+  app.add_option("--load", loads,
+                 "X,Y,Z:GRAMS, a weight on the brick at voxel X,Y,Z (Y = layer; repeatable)")
+      ->group(g_physics);
+  app.add_option("--ground", ground, "baseplate: the ground holds knobs (default); table: pushes")
+      ->check(CLI::IsMember({"baseplate", "table"}))
+      ->group(g_physics);
+  app.add_flag("--no-refine", no_refine, "skip the stability-aware refinement")->group(g_physics);
+
+  auto* g_out = "Outputs";
+  app.add_option("--parts-list", parts_list, "CSV: part, LDraw color, name, quantity")
+      ->group(g_out);
+  app.add_option("--bricklink", bricklink, "BrickLink XML wanted list")->group(g_out);
+  app.add_option("--report", report_path, "JSON report (docs/legolize-report.md)")->group(g_out);
+  app.add_option("--heatmap", heatmap, "LDraw model colored by stability (as brickcheck's)")
+      ->group(g_out);
+  app.add_flag("--quiet", quiet, "no progress on stderr")->group(g_out);
+  app.footer(
+      "Exit codes: 0 written and stable; 1 written, but unstable or not one connected piece (the "
+      "report and summary say where); 2 usage error or bad input (nothing is written).");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    return code == 0 ? 0 : kExitBadInput;
   }
-  if (!voxels_only) {
-    std::cerr
-        << "legolize: the brick layout and its refinement (paper sections 4-7) are not built yet; "
-           "--voxels-only writes the voxel grid\n";
-    return 2;
-  }
+
+  const auto start = Clock::now();
+  auto stage = [&](const std::string& words) {
+    if (!quiet) std::cerr << fmt::format("legolize [{:7.2f} s] {}\n", since(start), words);
+  };
+  report::ConversionReport rep;
+  rep.input = input;
+  rep.output = output;
+  rep.seed = seed;
+  rep.version = LEGOLIZATION_VERSION;
+  rep.min_cm_gf = min_cm;
   try {
+    // Everything the user typed is checked before the work starts.
+    const fs::path ext = fs::path(output).extension();
+    if (ext != ".ldr" && ext != ".mpd" && ext != ".LDR" && ext != ".MPD")
+      throw InputError(output, 0, "-o: the model is written as .ldr or .mpd");
+    check_output("-o", output, input);
+    check_output("--parts-list", parts_list, input);
+    check_output("--bricklink", bricklink, input);
+    check_output("--report", report_path, input);
+    check_output("--heatmap", heatmap, input);
     const voxel::Palette palette = parse_palette(palette_spec);
     mesh::MeshOptions mesh_options;
     if (default_color >= 0) {
       auto rgb = ldraw::ColorTable::standard().rgb(default_color);
       if (!rgb)
         throw InputError(
-            "", 0,
-            "--default-color: " + std::to_string(default_color) + " is not in the colour table");
+            "", 0, fmt::format("--default-color: {} is not in the colour table", default_color));
       mesh_options.default_color = voxel::from_hex(*rgb);
     }
     mesh_options.up = up == "x" ? mesh::UpAxis::X : up == "z" ? mesh::UpAxis::Z : mesh::UpAxis::Y;
-    const mesh::Mesh m = mesh::load_mesh(input, mesh_options);
+    const BrickCatalog& catalog = BrickCatalog::standard();
+    layout::MergeRules rules;
+    rules.color = colors == "soft" ? layout::ColorRule::Soft : layout::ColorRule::Hard;
+    rules.w_c = w_c;
+    rules.limits.inside_color = kInsideColor;
+    if (!inventory.empty()) rules.limits.read_inventory(inventory, catalog);
+    for (const auto& l : limits) rules.limits.add(l, catalog);
+    layout::RefineOptions refine;
+    refine.min_cm_gf = min_cm;
+    refine.fail_max = fail_max;
+    refine.inside_color = kInsideColor;
+    refine.stability.ground =
+        ground == "table" ? physics::GroundMode::Table : physics::GroundMode::Baseplate;
+    refine.loads.top_grams = load_top;
+    for (const auto& l : loads) refine.loads.at_voxels.push_back(parse_load(l));
     voxel::VoxelizeOptions vo{
         .height_bricks = height, .fit = {0, 0, 0}, .mm_per_unit = scale, .max_voxels = max_voxels};
-    if (!size.empty()) {
-      char x1 = 0, x2 = 0, extra = 0;
-      std::istringstream in(size);
-      if (!(in >> vo.fit[0] >> x1 >> vo.fit[1] >> x2 >> vo.fit[2]) || (x1 != 'x' && x1 != 'X') ||
-          (x2 != 'x' && x2 != 'X') || (in >> extra) || vo.fit[0] < 1 || vo.fit[1] < 1 ||
-          vo.fit[2] < 1)
-        throw InputError("", 0,
-                         "--size '" + size + "': expected WxHxD, three positive whole numbers");
-    }
+    if (!size.empty()) vo.fit = parse_size(size);
+
+    // Mesh to voxels (paper section 3).
+    auto t = Clock::now();
+    stage("reading " + input);
+    const mesh::Mesh m = mesh::load_mesh(input, mesh_options);
+    rep.seconds.emplace_back("mesh", since(t));
+    t = Clock::now();
     voxel::VoxelGrid grid = voxel::voxelize(m, vo);
     if (!solid) voxel::hollow(grid, shell);
-    Assembly a = voxel_assembly(grid, palette);
+    layout::Layout lay(layout::target_from_voxels(grid, palette));
+    rep.voxels = {grid.width, grid.height, grid.depth};
+    rep.voxels_filled = lay.target().filled();
+    rep.seconds.emplace_back("voxelize", since(t));
+    stage(fmt::format("{} x {} x {} voxels, {} kept", grid.width, grid.height, grid.depth,
+                      rep.voxels_filled));
+    if (rep.voxels_filled == 0) throw InputError(input, 0, "the mesh leaves no voxel to build");
+    for (const auto& l : refine.loads.at_voxels)
+      if (lay.brick_at(l.x, l.y, l.z) < 0)
+        throw InputError("", 0,
+                         fmt::format("--load {},{},{}: no voxel there (the grid is {} x {} x {})",
+                                     l.x, l.y, l.z, grid.width, grid.height, grid.depth));
+
+    Random rng(seed);
+    bool stable = true;
+    layout::RefineResult refined;
+    if (!voxels_only) {
+      // Layout initialization (Algorithm 3).
+      t = Clock::now();
+      layout::ConnectOptions connect;
+      connect.fail_max = fail_max;
+      // Pieces standing on the ground are not floating: the stability analysis judges them.
+      connect.ground_connects = refine.ground_connects = true;
+      auto last = Clock::now();
+      connect.progress = [&](int iteration, int components, int fails) {
+        if (quiet || since(last) < 0.5) return;
+        last = Clock::now();
+        stage(fmt::format("initialize: iteration {}, {} components, fail count {}", iteration,
+                          components, fails));
+      };
+      const layout::ConnectResult c = layout::initialize_layout(lay, rules, rng, connect);
+      if (auto exceeded = rules.limits.exceeded(lay); !exceeded.empty()) {
+        std::string words;
+        for (const auto& e : exceeded) words += "\n  " + e;
+        throw InputError("", 0,
+                         "impossible limits: the model needs more bricks than allowed:" + words);
+      }
+      rep.components = c.components;
+      rep.single_connected = c.single;
+      rep.seconds.emplace_back("initialize", since(t));
+      stage(fmt::format("initialized: {} bricks, {} component{} ({} at first, {} iterations)",
+                        lay.brick_count(), c.components, c.components == 1 ? "" : "s",
+                        c.components_start, c.iterations));
+      if (!c.single) {
+        stable = false;
+        rep.bottleneck = fmt::format(
+            "no single connected layout after {} failed tries: {} pieces that no brick joins",
+            fail_max, c.components);
+      }
+      // Stability-aware refinement (Algorithm 7).
+      t = Clock::now();
+      if (c.single && !no_refine) {
+        last = Clock::now();
+        refine.progress = [&](const layout::RefineProgress& p) {
+          if (quiet || since(last) < 0.5) return;
+          last = Clock::now();
+          stage(fmt::format("refine: iteration {}, C_M {}, fail count {}, {} accepted", p.iteration,
+                            cm_words(p.cm_gf), p.fail_count, p.accepted));
+        };
+        stage("refining");
+        refined = layout::refine_layout(lay, catalog, rules, rng, refine);
+        rep.cm_gf_initial = layout::comparable_cm_gf(refined.initial);
+        rep.cm_gf_final = layout::comparable_cm_gf(refined.final);
+        rep.status_initial = physics::to_string(refined.initial.status);
+        rep.status_final = physics::to_string(refined.final.status);
+        rep.iterations = refined.iterations;
+        rep.accepted = refined.accepted;
+        rep.lp_solves = refined.lp_solves;
+        stable = refined.stable;
+        stage(fmt::format("refined: C_M {} -> {}, {} iterations, {} accepted",
+                          cm_words(rep.cm_gf_initial), cm_words(rep.cm_gf_final),
+                          refined.iterations, refined.accepted));
+      }
+      rep.seconds.emplace_back("refine", since(t));
+    }
+
+    // Outputs.
+    t = Clock::now();
+    layout::LayoutAssembly la = layout::to_assembly(lay, catalog, kInsideColor, refine.loads);
+    const Assembly& assembly = la.assembly;
+    if (voxels_only) {
+      rep.status_initial = rep.status_final = "not analysed (--voxels-only)";
+    } else if (no_refine || !rep.single_connected) {
+      auto s = physics::analyze_stability(assembly, refine.stability);
+      refined.final = s;
+      rep.cm_gf_initial = rep.cm_gf_final = layout::comparable_cm_gf(s);
+      rep.status_initial = rep.status_final = physics::to_string(s.status);
+      stable = stable && s.stable(min_cm);
+    }
+    const physics::StabilityResult& final_result = refined.final;
+    auto describe = [&](int brick) {
+      if (brick == physics::kGround) return std::string("the ground");
+      const layout::LayoutBrick& b = lay.brick(la.layout_id[size_t(brick)]);
+      return fmt::format("{} {} at voxel {},{},{}", assembly.bricks[size_t(brick)].type->part,
+                         assembly.bricks[size_t(brick)].type->name, b.x, b.y, b.z);
+    };
+    if (!stable && rep.bottleneck.empty()) {
+      rep.bottleneck = final_result.weakest.empty()
+                           ? std::string(physics::to_string(final_result.status))
+                           : describe(final_result.weakest.front().lower) + " holding " +
+                                 describe(final_result.weakest.front().upper);
+    }
+    rep.stable = stable;
+    rep.bricks = assembly.bricks.size();
+    rep.components = rep.components ? rep.components : final_result.connectivity.component_count;
+    for (const Brick& b : assembly.bricks) ++rep.bricks_by_part[b.type->part];
+
     ldraw::WriteOptions w;
-    w.title = "Voxels of " + std::filesystem::path(input).filename().string();
+    w.title = (voxels_only ? "Voxels of " : "LEGO ") + fs::path(input).stem().string();
     w.author = "legolize";
-    ldraw::write_model(output, a, w);
-    std::cout << output << ": " << grid.width << " x " << grid.height << " x " << grid.depth
-              << " voxels, " << a.bricks.size() << " kept (" << grid.count(voxel::Cell::Surface)
-              << " on the surface)\n";
+    const auto parts = report::count_parts(assembly);
+    // Every text is made before the first file is written, so a refused BrickLink list (an
+    // unmapped color) leaves nothing behind.
+    std::vector<std::pair<std::string, std::string>> files;
+    files.emplace_back(output, ext == ".mpd" || ext == ".MPD" ? ldraw::to_mpd(assembly, w)
+                                                              : ldraw::to_ldr(assembly, w));
+    if (!parts_list.empty()) files.emplace_back(parts_list, report::parts_list_csv(parts));
+    if (!bricklink.empty())
+      files.emplace_back(bricklink, report::bricklink_xml(parts, report::BrickLinkMap::standard()));
+    if (!heatmap.empty() && !voxels_only) {
+      stage("per-brick capacity for the heat map");
+      physics::StabilityOptions with_capacity = refine.stability;
+      with_capacity.brick_capacity = true;
+      const auto s = physics::analyze_stability(assembly, with_capacity);
+      files.emplace_back(heatmap,
+                         report::render_heatmap(assembly, s, "Stability heat map of " + w.title,
+                                                "legolize", describe));
+    }
+    rep.seconds.emplace_back("output", since(t));
+    rep.seconds.emplace_back("total", since(start));
+    if (!report_path.empty()) files.emplace_back(report_path, to_json(rep).dump(2) + "\n");
+    for (const auto& [path, text] : files) ldraw::write_file_atomically(path, text);
+
+    std::string by_part;
+    for (const auto& [part, n] : rep.bricks_by_part)
+      by_part += fmt::format("{}{} {}", by_part.empty() ? "" : ", ", n,
+                             catalog.find(part) ? catalog.find(part)->name : part);
+    std::cout << fmt::format("{}: {} bricks ({}), {} x {} x {} voxels\n", output, rep.bricks,
+                             by_part, grid.width, grid.height, grid.depth);
+    if (!voxels_only)
+      std::cout << fmt::format("C_M {} -> {} ({}), {} iterations, {} accepted, {:.2f} s\n",
+                               cm_words(rep.cm_gf_initial), cm_words(rep.cm_gf_final),
+                               stable ? "stable" : "UNSTABLE", rep.iterations, rep.accepted,
+                               since(start));
+    if (!stable) std::cout << "weakest: " << rep.bottleneck << "\n";
+    return stable ? 0 : kExitUnstable;
   } catch (const InputError& e) {
     std::cerr << "legolize: " << e.what() << "\n";
-    return 2;
+    return kExitBadInput;
   }
-  return 0;
 }

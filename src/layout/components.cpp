@@ -4,16 +4,25 @@
 
 namespace lego::layout {
 
-ComponentAnalysis analyze_components(const Layout& layout, Random& rng) {
+ComponentAnalysis analyze_components(const Layout& layout, Random& rng, bool ground_connects) {
   ComponentAnalysis result;
   result.component.assign(layout.id_limit(), -1);
   std::vector<int> stack, around;
-  for (int start : layout.brick_ids()) {
+  const std::vector<int> ids = layout.brick_ids();
+  std::vector<int> starts;
+  if (ground_connects)  // the ground's component first: every brick on it starts the search
+    for (int id : ids)
+      if (layout.brick(id).y == 0) starts.push_back(id);
+  for (int start : ids) {
     if (result.component[start] >= 0) continue;
     const int id = result.count++;
     int size = 0;
-    result.component[start] = id;
-    stack.push_back(start);
+    if (starts.empty()) starts.push_back(start);
+    for (int s : starts) {
+      result.component[s] = id;
+      stack.push_back(s);
+    }
+    starts.clear();
     while (!stack.empty()) {
       const int b = stack.back();
       stack.pop_back();
@@ -32,7 +41,7 @@ ComponentAnalysis analyze_components(const Layout& layout, Random& rng) {
 
   std::vector<int> candidates, weights, seen;
   long total = 0;
-  for (int b : layout.brick_ids()) {
+  for (int b : ids) {
     around.clear();
     layout.neighbours(b, around);
     seen.clear();
@@ -48,7 +57,6 @@ ComponentAnalysis analyze_components(const Layout& layout, Random& rng) {
   if (total == 0) {
     // Components that touch nothing of each other (two separate objects): no brick is critical,
     // so reconfigure at a random brick; nothing will join them, and Algorithm 5 says so.
-    const auto ids = layout.brick_ids();
     result.critical = ids[rng.below(ids.size())];
     return result;
   }

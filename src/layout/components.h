@@ -18,6 +18,10 @@ struct ComponentAnalysis {
 // Components by depth-first search over snapped bricks, linear in bricks and snaps. With more
 // than one component, the critical brick is drawn with probability n_i / sum n_j, n_i being the
 // number of other components among its 1-ring neighbours.
-ComponentAnalysis analyze_components(const Layout& layout, Random& rng);
+// With `ground_connects`, bricks standing on the ground (layer 0) count as joined through it: a
+// piece resting on a baseplate or a table is not "floating in the air" (paper section 3), and
+// the stability analysis judges it. Without, the paper's strict count over snaps alone.
+ComponentAnalysis analyze_components(const Layout& layout, Random& rng,
+                                     bool ground_connects = false);
 
 }  // namespace lego::layout

@@ -21,7 +21,7 @@ size_t reconfigure(Layout& layout, std::span<const int> critical, int k, const M
 ConnectResult connect_components(Layout& layout, const MergeRules& rules, Random& rng,
                                  const ConnectOptions& options) {
   ConnectResult result;
-  ComponentAnalysis current = analyze_components(layout, rng);
+  ComponentAnalysis current = analyze_components(layout, rng, options.ground_connects);
   result.components_start = current.count;
   int fails = 0;
   while (current.count > 1 && fails < options.fail_max) {
@@ -29,7 +29,7 @@ ConnectResult connect_components(Layout& layout, const MergeRules& rules, Random
     layout.begin_edit();
     const int critical = current.critical;
     reconfigure(layout, std::span(&critical, 1), ring_size(fails, options.ring_step), rules, rng);
-    ComponentAnalysis candidate = analyze_components(layout, rng);
+    ComponentAnalysis candidate = analyze_components(layout, rng, options.ground_connects);
     if (candidate.count < current.count) {
       layout.commit();
       current = std::move(candidate);

@@ -27,8 +27,9 @@ size_t reconfigure(Layout& layout, std::span<const int> critical, int k, const M
 size_t reduce_unit_bricks(Layout& layout, const MergeRules& rules, Random& rng, int tries = 8);
 
 struct ConnectOptions {
-  int fail_max = 100;  // consecutive failures before giving up (paper section 8)
-  int ring_step = 10;  // N of equation 1
+  int fail_max = 100;            // consecutive failures before giving up (paper section 8)
+  int ring_step = 10;            // N of equation 1
+  bool ground_connects = false;  // see analyze_components
   // Called after every iteration (for progress reports); may be empty.
   std::function<void(int iteration, int components, int fail_count)> progress;
 };

@@ -18,31 +18,40 @@ int heat_color(double capacity) {
   return 2;                      // Green: (almost) no pull
 }
 
-std::string render_heatmap(const Audit& a) {
-  Assembly coloured = a.conversion.assembly;
-  const auto& capacity = a.stability.brick_capacity;
+std::string render_heatmap(const Assembly& assembly, const physics::StabilityResult& stability,
+                           const std::string& title, const std::string& author,
+                           const std::function<std::string(int)>& describe) {
+  Assembly coloured = assembly;
+  const auto& capacity = stability.brick_capacity;
   for (size_t i = 0; i < coloured.bricks.size(); ++i)
     coloured.bricks[i].color = i < capacity.size() ? heat_color(capacity[i]) : 71;
   ldraw::WriteOptions w;
-  w.title = "Stability heat map of " + (a.model.title.empty() ? a.file : a.model.title);
+  w.title = title;
   w.name = "heatmap.ldr";
-  w.author = "brickcheck";
+  w.author = author;
   w.steps = false;
   std::string body = ldraw::to_ldr(coloured, w);
   std::string notes =
-      "0 // Colours: red = no capacity left, orange < 25%, light orange < 50%, yellow < 75%,\n"
-      "0 // lime < 95%, green = at least 95% of the friction limit T left; grey = not computed.\n";
-  if (a.stability.status == physics::StabilityStatus::Solved)
-    notes += fmt::format("0 // C_M = {:.3f} gf\n", a.stability.cm_gf());
-  for (size_t i = 0; i < a.stability.weakest.size() && i < 5; ++i) {
-    const auto& wk = a.stability.weakest[i];
+      "0 // Colours by the share of the friction limit T a brick's worst knob uses: red >= 100%\n"
+      "0 // (overloaded), orange >= 50%, light orange >= 20%, yellow >= 5%, lime >= 0.5%,\n"
+      "0 // green below; grey = not computed.\n";
+  if (stability.status == physics::StabilityStatus::Solved)
+    notes += fmt::format("0 // C_M = {:.3f} gf\n", stability.cm_gf());
+  for (size_t i = 0; i < stability.weakest.size() && i < 5; ++i) {
+    const auto& wk = stability.weakest[i];
     notes += fmt::format("0 // weakest {}: {} holding {} ({:.1f}% of the binding duals)\n", i + 1,
-                         describe_brick(a, wk.lower), describe_brick(a, wk.upper), 100 * wk.share);
+                         describe(wk.lower), describe(wk.upper), 100 * wk.share);
   }
   // After the header (five lines and a blank), before the bricks.
   size_t at = 0;
   for (int k = 0; k < 5; ++k) at = body.find('\n', at) + 1;
   return body.insert(at, notes);
+}
+
+std::string render_heatmap(const Audit& a) {
+  return render_heatmap(a.conversion.assembly, a.stability,
+                        "Stability heat map of " + (a.model.title.empty() ? a.file : a.model.title),
+                        "brickcheck", [&](int brick) { return describe_brick(a, brick); });
 }
 
 }  // namespace lego::report

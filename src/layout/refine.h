@@ -1,0 +1,48 @@
+#pragma once
+// Algorithm 7: stability-aware refinement with Algorithm 8 (the force-based C_M of PHYSICS.md)
+// as its metric, reconfiguring around the bottleneck contact.
+#include <functional>
+#include <string>
+
+#include "core/brick_catalog.h"
+#include "core/random.h"
+#include "layout/merge.h"
+#include "layout/to_assembly.h"
+#include "physics/stability.h"
+
+namespace lego::layout {
+
+struct RefineProgress {
+  int iteration = 0, accepted = 0, fail_count = 0, lp_solves = 0;
+  double cm_gf = 0;  // of the current layout (-inf when no equilibrium)
+  double seconds = 0;
+};
+
+struct RefineOptions {
+  double min_cm_gf = 0;  // stop once C_M / g exceeds this (paper footnote 7)
+  int fail_max = 100;
+  int ring_step = 10;            // N of equation 1
+  bool ground_connects = false;  // for the single-component check, see analyze_components
+  physics::StabilityOptions stability;
+  Loads loads;
+  int inside_color = 72;
+  std::function<void(const RefineProgress&)> progress;  // after every iteration; may be empty
+};
+
+struct RefineResult {
+  physics::StabilityResult initial, final;  // of the layout before and after
+  bool stable = false;                      // final C_M / g > min_cm_gf
+  bool gave_up = false;                     // fail_MAX failures in a row
+  int iterations = 0, accepted = 0, lp_solves = 0;
+  int rejected_disconnected = 0;  // candidates discarded for not being one component
+  double lp_seconds = 0;          // spent in the stability analysis
+};
+
+// C_M / g as the refinement compares it: -inf when the analysis gives no number.
+double comparable_cm_gf(const physics::StabilityResult& result);
+
+// Runs Algorithm 7 on a single-connected layout, changing it in place.
+RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const MergeRules& rules,
+                           Random& rng, const RefineOptions& options);
+
+}  // namespace lego::layout

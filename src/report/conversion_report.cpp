@@ -1,0 +1,41 @@
+#include "report/conversion_report.h"
+
+#include <cmath>
+
+namespace lego::report {
+
+namespace {
+nlohmann::json number_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+}  // namespace
+
+nlohmann::json to_json(const ConversionReport& r) {
+  nlohmann::json j;
+  j["input"] = r.input;
+  j["output"] = r.output;
+  j["voxels"] = r.voxels;
+  j["voxels_filled"] = r.voxels_filled;
+  j["bricks"] = r.bricks;
+  j["bricks_by_part"] = r.bricks_by_part;
+  j["components"] = r.components;
+  j["single_connected"] = r.single_connected;
+  j["min_cm_gf"] = r.min_cm_gf;
+  j["cm_gf_initial"] = number_or_null(r.cm_gf_initial);
+  j["cm_gf_final"] = number_or_null(r.cm_gf_final);
+  j["status_initial"] = r.status_initial;
+  j["status_final"] = r.status_final;
+  j["stable"] = r.stable;
+  j["iterations"] = r.iterations;
+  j["accepted"] = r.accepted;
+  j["lp_solves"] = r.lp_solves;
+  nlohmann::json seconds = nlohmann::json::object();
+  for (auto& [stage, s] : r.seconds) seconds[stage] = s;
+  j["seconds"] = seconds;
+  if (!r.bottleneck.empty()) j["bottleneck"] = r.bottleneck;
+  j["seed"] = r.seed;
+  j["version"] = r.version;
+  return j;
+}
+
+}  // namespace lego::report
