@@ -357,10 +357,11 @@ int main(int argc, char** argv) {
     ldraw::WriteOptions w;
     w.title = (voxels_only ? "Voxels of " : "LEGO ") + fs::path(input).stem().string();
     w.author = "legolize";
+    w.name = fs::path(output).filename().string();
     const auto parts = report::count_parts(assembly);
-    // Every text is made before the first file is written, so a refused BrickLink list (an
-    // unmapped color) leaves nothing behind.
-    std::vector<std::pair<std::string, std::string>> files;
+    // Every text is made before any file is written, and the files land all or none: a refused
+    // BrickLink list (an unmapped color) or an unwritable heat map leaves nothing behind.
+    std::vector<std::pair<fs::path, std::string>> files;
     files.emplace_back(output, ext == ".mpd" || ext == ".MPD" ? ldraw::to_mpd(assembly, w)
                                                               : ldraw::to_ldr(assembly, w));
     if (!parts_list.empty()) files.emplace_back(parts_list, report::parts_list_csv(parts));
@@ -378,7 +379,7 @@ int main(int argc, char** argv) {
     rep.seconds.emplace_back("output", since(t));
     rep.seconds.emplace_back("total", since(start));
     if (!report_path.empty()) files.emplace_back(report_path, to_json(rep).dump(2) + "\n");
-    for (const auto& [path, text] : files) ldraw::write_file_atomically(path, text);
+    ldraw::write_files_atomically(files);
 
     std::string by_part;
     for (const auto& [part, n] : rep.bricks_by_part)

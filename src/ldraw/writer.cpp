@@ -95,25 +95,52 @@ std::string to_mpd(const Assembly& assembly, const WriteOptions& options) {
   return out;
 }
 
-void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
+namespace {
+
+std::filesystem::path temporary_for(const std::filesystem::path& path) {
   auto tmp = path;
   tmp += ".tmp-legolization";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(path.string(), 0, "cannot write here");
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw InputError(path.string(), 0, "writing failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
+  return tmp;
+}
+
+void write_temporary(const std::filesystem::path& path, const std::string& text) {
+  const auto tmp = temporary_for(path);
+  std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+  if (!out) throw InputError(path.string(), 0, "cannot write here");
+  out << text;
+  out.flush();
+  if (!out) {
+    out.close();
+    std::error_code ec;
     std::filesystem::remove(tmp, ec);
-    throw InputError(path.string(), 0, "cannot move the written file into place");
+    throw InputError(path.string(), 0, "writing failed");
+  }
+}
+
+}  // namespace
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
+  write_files_atomically({{path, text}});
+}
+
+void write_files_atomically(
+    const std::vector<std::pair<std::filesystem::path, std::string>>& files) {
+  std::error_code ec;
+  size_t written = 0;
+  try {
+    for (; written < files.size(); ++written)
+      write_temporary(files[written].first, files[written].second);
+  } catch (const InputError&) {
+    for (size_t i = 0; i < written; ++i) std::filesystem::remove(temporary_for(files[i].first), ec);
+    throw;
+  }
+  for (size_t i = 0; i < files.size(); ++i) {
+    std::filesystem::rename(temporary_for(files[i].first), files[i].first, ec);
+    if (ec) {
+      for (size_t k = i; k < files.size(); ++k)
+        std::filesystem::remove(temporary_for(files[k].first), ec);
+      throw InputError(files[i].first.string(), 0, "cannot move the written file into place");
+    }
   }
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/assembly.h"
@@ -24,6 +25,10 @@ std::string to_mpd(const Assembly& assembly, const WriteOptions& options);
 // Writes text next to `path` first and renames it into place, so a failed write never leaves a
 // partial file. Throws InputError when the path cannot be written.
 void write_file_atomically(const std::filesystem::path& path, const std::string& text);
+// Several files, all or none: each is written next to its path first, and only when every one
+// is written are they renamed into place.
+void write_files_atomically(
+    const std::vector<std::pair<std::filesystem::path, std::string>>& files);
 
 // to_ldr or to_mpd by the extension of `path`, then written atomically.
 void write_model(const std::filesystem::path& path, const Assembly& assembly, WriteOptions options);

@@ -114,5 +114,30 @@ TEST_F(LeoCad, OpensTheHeatMap) {
   EXPECT_GT(non_background_pixels(image), 1000u);
 }
 
+TEST_F(LeoCad, RendersTheLegolizedBunnyAndItsHeatMap) {
+  SKIP_WITHOUT_SHARED();
+  auto model = dir_ / "bunny.mpd", heat = dir_ / "bunny-heat.ldr";
+  auto run = test::run_tool("legolize", {(test::shared_dir() / "meshes" / "bunny.obj").string(),
+                                         "--height", "40", "--quiet", "-o", model.string()});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  expect_parts_exist(model);
+  Image image = render(default_parts_dir(), model, dir_ / "bunny.png");
+  ASSERT_GT(image.width, 0) << "LeoCAD did not render the bunny";
+  EXPECT_GT(non_background_pixels(image), 5000u);
+}
+
+TEST_F(LeoCad, RendersALegolizedSampleHeatMap) {
+  auto heat = dir_ / "crate-heat.ldr";
+  auto run = test::run_tool(
+      "legolize",
+      {(test::data_dir() / ".." / ".." / "samples" / "crate.obj").string(), "--height", "6",
+       "--quiet", "-o", (dir_ / "crate.ldr").string(), "--heatmap", heat.string()});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  expect_parts_exist(heat);
+  Image image = render(default_parts_dir(), heat, dir_ / "crate-heat.png");
+  ASSERT_GT(image.width, 0) << "LeoCAD did not render the heat map";
+  EXPECT_GT(non_background_pixels(image), 1000u);
+}
+
 }  // namespace
 }  // namespace lego
