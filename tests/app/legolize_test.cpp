@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -327,6 +328,73 @@ TEST(Legolize, LimitsHoldInTheOutput) {
     }
   }
   EXPECT_LE(brick_2x4, 3);
+}
+
+TEST(Legolize, SampleHeadlines) {
+  // The samples' headline numbers at seed 1 (tools/make_samples.py writes the meshes).
+  struct Case {
+    std::string mesh;
+    std::vector<std::string> args;
+    std::array<int, 3> voxels;
+    int filled, bricks;
+    double cm_gf;
+  };
+  const std::vector<Case> cases{
+      {"globe.ply", {"--height", "16"}, {17, 16, 17}, 2171, 584, 71.379},
+      {"crate.obj", {"--height", "8"}, {10, 8, 10}, 768, 190, 71.528},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.mesh);
+    auto out = scratch(c.mesh + ".ldr"), report = scratch(c.mesh + ".json");
+    std::vector<std::string> args{sample(c.mesh).string(), "-o",     out.string(), "--report",
+                                  report.string(),         "--quiet"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    ASSERT_EQ(run_tool("legolize", args).exit_code, 0);
+    const auto r = read_json(report);
+    EXPECT_EQ(r["voxels"], nlohmann::json(c.voxels));
+    EXPECT_EQ(r["voxels_filled"].get<int>(), c.filled);
+    EXPECT_EQ(r["bricks"].get<int>(), c.bricks);
+    EXPECT_NEAR(r["cm_gf_final"].get<double>(), c.cm_gf, 1e-3);
+  }
+}
+
+TEST(Legolize, AFailedRefinementIsWrittenAndMarkedUnstable) {
+  // 20 kg on the table: no layout holds it. The model is still written, the report says
+  // unstable and names the bottleneck, and the exit code is 1.
+  auto out = scratch("heavy.ldr"), report = scratch("heavy.json");
+  auto run = run_tool(
+      "legolize", {sample("table.obj").string(), "--scale", "1", "--load-top", "20000",
+                   "--fail-max", "3", "-o", out.string(), "--report", report.string(), "--quiet"});
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_TRUE(fs::exists(out));
+  const auto r = read_json(report);
+  EXPECT_FALSE(r["stable"].get<bool>());
+  EXPECT_LT(r["cm_gf_final"].get<double>(), 0);
+  EXPECT_EQ(r["iterations"].get<int>(), 3);
+  EXPECT_NE(r["bottleneck"].get<std::string>().find("holding"), std::string::npos);
+  EXPECT_NE(run.out.find("UNSTABLE"), std::string::npos);
+  EXPECT_NE(run.out.find("weakest: "), std::string::npos);
+}
+
+TEST(Legolize, AWeightOnAVoxelLowersTheMargin) {
+  // The same layout (same seed, no refinement) with 150 g on the middle of the table's span.
+  auto cm = [](const std::vector<std::string>& extra) {
+    auto out = scratch("loaded.ldr"), report = scratch("loaded.json");
+    std::vector<std::string> args{sample("table.obj").string(),
+                                  "--scale",
+                                  "1",
+                                  "--no-refine",
+                                  "-o",
+                                  out.string(),
+                                  "--report",
+                                  report.string(),
+                                  "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    run_tool("legolize", args);
+    return read_json(report)["cm_gf_final"].get<double>();
+  };
+  const double free = cm({}), loaded = cm({"--load", "18,6,4:150"});
+  EXPECT_LT(loaded, free - 1);
 }
 
 TEST(Legolize, TheBunnyConvertsAndBrickcheckAgrees) {

@@ -350,6 +350,18 @@ TEST(Layout, AssemblyTurnsLayersIntoStepsAndKeepsHandedness) {
   // Layers in order: step numbers never decrease.
   for (size_t i = 1; i < la.assembly.bricks.size(); ++i)
     EXPECT_LE(la.assembly.bricks[i - 1].source.step, la.assembly.bricks[i].source.step);
+  // Building order: in each layer, bricks resting on the layer below come first.
+  Layout towers(test::two_towers(2, 4, 2, true));
+  Random rng(2);
+  initialize_layout(towers, {}, rng);
+  const auto ta = to_assembly(towers, BrickCatalog::standard(), 72);
+  for (size_t i = 0; i < ta.assembly.bricks.size(); ++i)
+    if (ta.assembly.bricks[i].source.step == 4 &&
+        (i == 0 || ta.assembly.bricks[i - 1].source.step != 4)) {
+      std::vector<int> below;
+      towers.snapped_neighbours(ta.layout_id[i], below);
+      EXPECT_FALSE(below.empty()) << "the top layer starts with a brick that rests on nothing";
+    }
   Loads loads;
   loads.at_voxels.push_back({0, 1, 0, 5});
   EXPECT_THROW(to_assembly(l, BrickCatalog::standard(), 72, loads), InputError);
