@@ -171,6 +171,12 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"baseplate", "table"}))
       ->group(g_physics);
   app.add_flag("--no-refine", no_refine, "skip the stability-aware refinement")->group(g_physics);
+  int jobs = 2;
+  app.add_option("--jobs", jobs,
+                 "refinement candidates analysed at once, one thread each (default 2; 1 is the "
+                 "paper's sequential loop)")
+      ->check(CLI::Range(1, 64))
+      ->group(g_physics);
 
   auto* g_out = "Outputs";
   app.add_option("--parts-list", parts_list, "CSV: part, LDraw color, name, quantity")
@@ -230,6 +236,7 @@ int main(int argc, char** argv) {
     layout::RefineOptions refine;
     refine.min_cm_gf = min_cm;
     refine.fail_max = fail_max;
+    refine.candidates_per_round = jobs;
     refine.inside_color = kInsideColor;
     refine.stability.ground =
         ground == "table" ? physics::GroundMode::Table : physics::GroundMode::Baseplate;

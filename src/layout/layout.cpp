@@ -177,6 +177,22 @@ void Layout::commit() {
   added_.clear();
 }
 
+Edit Layout::open_edit() const {
+  Edit e;
+  std::vector<int> added = added_;
+  std::sort(added.begin(), added.end());
+  for (const auto& [id, brick] : removed_)
+    if (!std::binary_search(added.begin(), added.end(), id)) e.removed.push_back(id);
+  for (int id : added_)
+    if (bricks_[id].alive) e.added.push_back(bricks_[id]);
+  return e;
+}
+
+void Layout::apply(const Edit& e) {
+  for (int id : e.removed) remove(id);
+  for (const LayoutBrick& b : e.added) add(b);
+}
+
 void Layout::rollback() {
   editing_ = false;
   // Ids removed within an edit are not reused within it, so each removed id either lived before

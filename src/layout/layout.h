@@ -26,6 +26,12 @@ struct LayoutBrick {
   int width() const { return size_x > size_z ? size_z : size_x; }
 };
 
+// A change to a layout, replayable: the ids it removed and the bricks it added.
+struct Edit {
+  std::vector<int> removed;
+  std::vector<LayoutBrick> added;
+};
+
 class Layout {
  public:
   // One 1x1 brick per non-empty voxel, colored as the target asks (paper Algorithm 3, line 1).
@@ -62,6 +68,10 @@ class Layout {
   void commit();
   void rollback();
   bool editing() const { return editing_; }
+  // The open edit as a replayable change; apply() makes it again (on the layout as it was when
+  // the edit began), e.g. after a rollback. Added bricks may get other ids than the first time.
+  Edit open_edit() const;
+  void apply(const Edit& edit);
 
   // How many living bricks have this footprint and color (for brick limits).
   int count(int length, int width, int color) const;

@@ -1,10 +1,13 @@
 #include "layout/refine.h"
 
+#include <array>
 #include <chrono>
 #include <limits>
+#include <thread>
 
 #include "layout/components.h"
 #include "layout/reconfigure.h"
+#include "physics/interior_point.h"
 
 namespace lego::layout {
 
@@ -17,31 +20,51 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// C_M gains smaller than this (grams-force) are within the analysis' accuracy, not progress.
+constexpr double kMeaningfulGain = 1e-4;
+
+// The bottleneck's bricks by voxel, so it can be found again after an edit is replayed.
 struct Analysis {
   physics::StabilityResult result;
-  std::vector<int> critical;  // w_L^R as layout ids
+  std::vector<std::array<int, 3>> critical;  // w_L^R: voxels of its bricks
 };
 
-// Algorithm 8 on the layout: C_M and the bottleneck's bricks (the pair with the largest share of
-// the binding duals; the ground is not a brick). Without a bottleneck (no equilibrium at all),
-// a random brick stands in for it.
-Analysis analyze(const Layout& layout, const BrickCatalog& catalog, const RefineOptions& options,
-                 Random& rng, RefineResult& totals) {
-  const auto start = Clock::now();
-  const LayoutAssembly la = to_assembly(layout, catalog, options.inside_color, options.loads);
+// Algorithm 8 on an assembly of a layout: C_M and the bottleneck's bricks (the pair with the
+// largest share of the binding duals; the ground is not a brick), by voxel. Without a bottleneck
+// (no equilibrium at all), a random brick stands in for it. Reads only the assembly, so
+// candidates can be analysed on threads of their own.
+Analysis analyze(const Assembly& assembly, int grid_depth, const RefineOptions& options,
+                 size_t random_pick) {
   Analysis a;
-  a.result = physics::analyze_stability(la.assembly, options.stability);
-  totals.lp_seconds += std::chrono::duration<double>(Clock::now() - start).count();
-  ++totals.lp_solves;
-  if (!a.result.weakest.empty()) {
-    const physics::WeakContact& w = a.result.weakest.front();
-    if (w.lower != physics::kGround) a.critical.push_back(la.layout_id[w.lower]);
-    a.critical.push_back(la.layout_id[w.upper]);
-  } else if (layout.brick_count() > 0) {
-    a.critical.push_back(la.layout_id[rng.below(la.layout_id.size())]);
+  a.result = physics::analyze_stability(assembly, options.stability);
+  auto voxel_of = [&](int brick) {  // to_assembly's mapping backwards (lattice z is flipped)
+    const Brick& b = assembly.bricks[size_t(brick)];
+    return std::array{b.min.x, b.min.y / kPlatesPerBrick, grid_depth - b.max_z()};
+  };
+  const auto& w = a.result.weakest;
+  if (!w.empty()) {
+    if (w.front().lower != physics::kGround) a.critical.push_back(voxel_of(w.front().lower));
+    a.critical.push_back(voxel_of(w.front().upper));
+  } else if (!assembly.bricks.empty()) {
+    a.critical.push_back(voxel_of(int(random_pick % assembly.bricks.size())));
   }
   return a;
 }
+
+std::vector<int> critical_ids(const Layout& layout, const Analysis& a) {
+  std::vector<int> ids;
+  for (const auto& v : a.critical) ids.push_back(layout.brick_at(v[0], v[1], v[2]));
+  return ids;
+}
+
+// One candidate of a round: the edit that makes it and, once analysed, its analysis.
+struct Candidate {
+  Edit edit;
+  LayoutAssembly assembly;
+  Analysis analysis;
+  size_t random_pick = 0;
+  bool connected = false;
+};
 
 }  // namespace
 
@@ -49,7 +72,14 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
                            Random& rng, const RefineOptions& options) {
   const auto start = Clock::now();
   RefineResult out;
-  Analysis current = analyze(layout, catalog, options, rng, out);
+  Analysis current = [&] {
+    const auto t = Clock::now();
+    const LayoutAssembly la = to_assembly(layout, catalog, options.inside_color, options.loads);
+    Analysis a = analyze(la.assembly, layout.depth(), options, size_t(rng.next()));
+    out.lp_seconds += std::chrono::duration<double>(Clock::now() - t).count();
+    ++out.lp_solves;
+    return a;
+  }();
   out.initial = current.result;
   double cm = comparable_cm_gf(current.result);
   int fails = 0;
@@ -63,28 +93,82 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
                        .cm_gf = cm,
                        .seconds = std::chrono::duration<double>(Clock::now() - start).count()});
   };
-  while (!(cm > options.min_cm_gf) && fails < options.fail_max && !current.critical.empty()) {
-    ++out.iterations;
-    layout.begin_edit();
-    reconfigure(layout, current.critical, ring_size(fails, options.ring_step), rules, rng);
-    if (analyze_components(layout, rng, options.ground_connects).count != 1) {
-      layout.rollback();
-      ++fails;
-      ++out.rejected_disconnected;
-      report();
-      continue;
+  const int per_round = std::max(1, options.candidates_per_round);
+  // Candidates analysed side by side use one BLAS thread each (physics::set_blas_threads).
+  struct BlasThreads {
+    int previous = 0;
+    explicit BlasThreads(int per_round)
+        : previous(per_round > 1 ? physics::set_blas_threads(1) : 0) {}
+    ~BlasThreads() {
+      if (previous > 0) physics::set_blas_threads(previous);
     }
-    Analysis candidate = analyze(layout, catalog, options, rng, out);
-    const double candidate_cm = comparable_cm_gf(candidate.result);
-    if (candidate_cm > cm) {
+  } blas_threads(per_round);
+  while (!(cm > options.min_cm_gf) && fails < options.fail_max && !current.critical.empty()) {
+    if (std::chrono::duration<double>(Clock::now() - start).count() > options.max_seconds) {
+      out.out_of_time = true;
+      break;
+    }
+    // Make the round's candidates one after another on the layout, each undone after it is
+    // recorded, so every candidate starts from the current layout.
+    const std::vector<int> critical = critical_ids(layout, current);
+    std::vector<Candidate> round(size_t(std::min(per_round, options.fail_max - fails)));
+    for (size_t c = 0; c < round.size(); ++c) {
+      ++out.iterations;
+      layout.begin_edit();
+      reconfigure(layout, critical, ring_size(fails + int(c), options.ring_step), rules, rng);
+      round[c].random_pick = size_t(rng.next());
+      round[c].connected = analyze_components(layout, rng, options.ground_connects).count == 1;
+      if (round[c].connected) {
+        round[c].edit = layout.open_edit();
+        round[c].assembly = to_assembly(layout, catalog, options.inside_color, options.loads);
+      } else {
+        ++out.rejected_disconnected;
+      }
+      layout.rollback();
+    }
+    // Analyse them at the same time, each on its own assembly.
+    const auto t = Clock::now();
+    auto analyse = [&](Candidate& c) {
+      c.analysis = analyze(c.assembly.assembly, layout.depth(), options, c.random_pick);
+    };
+    std::vector<std::thread> threads;
+    int solved = 0;
+    for (size_t c = 1; c < round.size(); ++c)
+      if (round[c].connected) {
+        threads.emplace_back(analyse, std::ref(round[c]));
+        ++solved;
+      }
+    if (round[0].connected) {
+      analyse(round[0]);
+      ++solved;
+    }
+    for (auto& th : threads) th.join();
+    out.lp_seconds += std::chrono::duration<double>(Clock::now() - t).count();
+    out.lp_solves += solved;
+    // The best candidate that beats the current layout by more than the analysis' accuracy
+    // (C_M to 1e-6 relative; smaller gains are noise); the earliest among those within that
+    // accuracy of the best, so last-bit differences never choose.
+    double top = -std::numeric_limits<double>::infinity();
+    for (const Candidate& c : round)
+      if (c.connected) top = std::max(top, comparable_cm_gf(c.analysis.result));
+    int best = -1;
+    for (size_t c = 0; c < round.size() && best < 0; ++c) {
+      const double candidate_cm =
+          round[c].connected ? comparable_cm_gf(round[c].analysis.result) : top - 1;
+      if (candidate_cm > cm + kMeaningfulGain && candidate_cm > top - kMeaningfulGain)
+        best = int(c);
+    }
+    const double best_cm = best >= 0 ? comparable_cm_gf(round[size_t(best)].analysis.result) : cm;
+    if (best >= 0) {
+      layout.begin_edit();
+      layout.apply(round[size_t(best)].edit);
       layout.commit();
-      current = std::move(candidate);
-      cm = candidate_cm;
+      current = std::move(round[size_t(best)].analysis);
+      cm = best_cm;
       fails = 0;
       ++out.accepted;
     } else {
-      layout.rollback();
-      ++fails;
+      fails += int(round.size());
     }
     report();
   }

@@ -23,6 +23,12 @@ struct RefineOptions {
   int fail_max = 100;
   int ring_step = 10;            // N of equation 1
   bool ground_connects = false;  // for the single-component check, see analyze_components
+  double max_seconds = 1e30;     // stop refining after this long (the result says so)
+  // Candidates generated one after another (each counting as an iteration, with k from the fail
+  // count so far) and analysed at the same time, one thread each; the best that beats the
+  // current C_M is kept. 1 is the paper's sequential loop. The result depends on this number,
+  // never on thread timing.
+  int candidates_per_round = 2;
   physics::StabilityOptions stability;
   Loads loads;
   int inside_color = 72;
@@ -33,6 +39,7 @@ struct RefineResult {
   physics::StabilityResult initial, final;  // of the layout before and after
   bool stable = false;                      // final C_M / g > min_cm_gf
   bool gave_up = false;                     // fail_MAX failures in a row
+  bool out_of_time = false;                 // max_seconds ran out
   int iterations = 0, accepted = 0, lp_solves = 0;
   int rejected_disconnected = 0;  // candidates discarded for not being one component
   double lp_seconds = 0;          // spent in the stability analysis

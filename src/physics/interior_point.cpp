@@ -1,5 +1,6 @@
 #include "physics/interior_point.h"
 
+#include <dlfcn.h>
 #include <fmt/format.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
@@ -349,6 +350,17 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
     result.message = fmt::format("the interior point method did not converge in {} iterations",
                                  result.iterations);
   return result;
+}
+
+int set_blas_threads(int threads) {
+  using Get = int (*)();
+  using Set = void (*)(int);
+  auto get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  auto set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (!get || !set) return 0;
+  const int previous = get();
+  set(threads);
+  return previous;
 }
 
 }  // namespace lego::physics

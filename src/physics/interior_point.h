@@ -35,4 +35,10 @@ struct IpmOptions {
 
 IpmResult solve_interior_point(const IpmProblem& problem, const IpmOptions& options = {});
 
+// The threads the BLAS under CHOLMOD may use (OpenBLAS; other BLAS libraries are left alone).
+// Returns the previous count, 0 when it cannot be set. Several analyses running at once should
+// each use one: measured, two refinement candidates analysed side by side with two BLAS threads
+// each were slower than one after the other (the threads spin while they wait).
+int set_blas_threads(int threads);
+
 }  // namespace lego::physics

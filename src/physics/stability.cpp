@@ -68,8 +68,12 @@ void rank_weakest(const EquilibriumSystem& sys, const ContactGraph& g,
   }
   for (auto [contact, sum] : by_contact)
     r.weakest.push_back({contact, g.stacked[contact].lower, g.stacked[contact].upper, sum / total});
+  // Shares equal to the solver's accuracy rank in contact order: an interior point solution
+  // splits the duals evenly between symmetric contacts, and the last bits of the split depend
+  // on how the BLAS summed (its thread count), which must not decide what comes first.
+  auto key = [](const WeakContact& w) { return std::llround(w.share * 1e6); };
   std::stable_sort(r.weakest.begin(), r.weakest.end(),
-                   [](const WeakContact& a, const WeakContact& b) { return a.share > b.share; });
+                   [&](const WeakContact& a, const WeakContact& b) { return key(a) > key(b); });
 }
 
 // Our interior point method on an LP whose columns are all sparse.

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -198,7 +199,9 @@ TEST(Legolize, TableNeedsTheRefinementAndEndsStable) {
   EXPECT_EQ(r["voxels"], nlohmann::json::array({36, 7, 8}));
   EXPECT_EQ(r["voxels_filled"].get<int>(), 4 * 4 * 5 + 36 * 8 * 2);
   EXPECT_NEAR(r["cm_gf_initial"].get<double>(), -81.982, 1e-3);
-  EXPECT_NEAR(r["cm_gf_final"].get<double>(), 53.952, 1e-3);
+  // The refinement's path depends on LP values to their last bits only through comparisons with
+  // a margin (refine.cpp), so its end is reproducible here; other CPUs may round differently,
+  // hence no pin on the final value, only on stability.
   for (const char* key : {"input", "bricks", "bricks_by_part", "iterations", "seconds", "seed",
                           "version", "cm_gf_initial", "cm_gf_final", "stable", "accepted"})
     EXPECT_TRUE(r.contains(key)) << key;
@@ -254,6 +257,22 @@ TEST(Legolize, LayersAreBuildStepsAndTheSameSeedGivesTheSameFile) {
     EXPECT_LT(y, last_y);  // LDraw's -y is up
     last_y = y;
   }
+}
+
+TEST(Legolize, TheRefinementDoesNotDependOnHowManyThreadsTheBlasUses) {
+  // The BLAS sums in another order with another thread count; the refinement must not notice.
+  auto run = [&](const char* threads, const std::string& name) {
+    ::setenv("OPENBLAS_NUM_THREADS", threads, 1);
+    auto out = scratch(name);
+    auto r = run_tool("legolize", {sample("table.obj").string(), "--scale", "1", "--load-top",
+                                   "300", "--seed", "3", "--quiet", "-o", out.string()});
+    ::unsetenv("OPENBLAS_NUM_THREADS");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream in(out);
+    std::string text(std::istreambuf_iterator<char>(in), {});
+    return text.substr(text.find('\n', text.find("0 Name:")));
+  };
+  EXPECT_TRUE(run("1", "one.ldr") == run("2", "two.ldr"));
 }
 
 TEST(Legolize, BrickLinkListMapsColorsAndRefusesUnmappedOnes) {

@@ -1,0 +1,257 @@
+// The benchmark of issue 8: a fixed set of inputs through the stability engine and through the
+// legolize pipeline, one line each, medians of --repeat runs. The columns never change, so runs
+// can be compared line by line:
+//   input voxels bricks rows cols nonzeros init_s refine_s iterations lp_solves solve_s
+//   cm_before cm_after
+// (solve_s: the median time of one stability analysis; "-" where a column does not apply).
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+
+#include "layout/reconfigure.h"
+#include "layout/refine.h"
+#include "mesh/mesh.h"
+#include "shapes.h"
+#include "voxel/palette.h"
+#include "voxel/voxelize.h"
+
+using namespace lego;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? NAN : v[v.size() / 2];
+}
+
+std::string number(double v, const char* format = "{:.3f}") {
+  return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string("-");
+}
+
+void header() {
+  fmt::print("{:<22} {:>11} {:>6} {:>7} {:>7} {:>8} {:>7} {:>8} {:>5} {:>5} {:>8} {:>9} {:>9}\n",
+             "input", "voxels", "bricks", "rows", "cols", "nonzeros", "init_s", "refine_s", "iter",
+             "lps", "solve_s", "cm_before", "cm_after");
+}
+
+struct Line {
+  std::string input, voxels = "-";
+  size_t bricks = 0;
+  physics::LpStats lp;
+  double init = NAN, refine = NAN, solve = NAN, cm_before = NAN, cm_after = NAN;
+  int iterations = -1, lp_solves = 0;
+};
+
+void print(const Line& l) {
+  fmt::print("{:<22} {:>11} {:>6} {:>7} {:>7} {:>8} {:>7} {:>8} {:>5} {:>5} {:>8} {:>9} {:>9}\n",
+             l.input, l.voxels, l.bricks, l.lp.rows, l.lp.columns, l.lp.nonzeros, number(l.init),
+             number(l.refine), l.iterations < 0 ? std::string("-") : std::to_string(l.iterations),
+             l.lp_solves, number(l.solve), number(l.cm_before), number(l.cm_after));
+  std::fflush(stdout);
+}
+
+// The stability engine alone on a generated assembly.
+void stability_line(const std::string& name, const Assembly& a, int repeat) {
+  Line l;
+  l.input = name;
+  l.bricks = a.bricks.size();
+  std::vector<double> solve;
+  for (int k = 0; k < repeat; ++k) {
+    const auto t = Clock::now();
+    const physics::StabilityResult r = physics::analyze_stability(a);
+    solve.push_back(seconds_since(t));
+    l.lp = r.stats;
+    l.cm_before = l.cm_after = r.status == physics::StabilityStatus::Solved ? r.cm_gf() : NAN;
+    ++l.lp_solves;
+  }
+  l.solve = median(solve);
+  print(l);
+}
+
+// The legolize pipeline from a voxel target: initialization (Algorithm 3) and refinement
+// (Algorithm 7), each timed; the refinement is capped at max_refine seconds.
+void pipeline_line(const std::string& name, const layout::Target& target, int repeat,
+                   double max_refine, double load_top = 0) {
+  Line l;
+  l.input = name;
+  l.voxels = fmt::format("{}x{}x{}", target.width, target.height, target.depth);
+  std::vector<double> init, refine, per_solve;
+  for (int k = 0; k < repeat; ++k) {
+    layout::Layout lay(target);
+    Random rng(1);
+    layout::MergeRules rules;
+    auto t = Clock::now();
+    layout::ConnectOptions connect;
+    connect.ground_connects = true;
+    layout::initialize_layout(lay, rules, rng, connect);
+    init.push_back(seconds_since(t));
+    layout::RefineOptions options;
+    options.ground_connects = true;
+    options.loads.top_grams = load_top;
+    options.max_seconds = max_refine;
+    t = Clock::now();
+    const layout::RefineResult r =
+        layout::refine_layout(lay, BrickCatalog::standard(), rules, rng, options);
+    refine.push_back(seconds_since(t));
+    per_solve.push_back(r.lp_seconds / std::max(1, r.lp_solves));
+    l.bricks = lay.brick_count();
+    l.lp = r.final.stats;
+    l.iterations = r.iterations;
+    l.lp_solves = r.lp_solves;
+    l.cm_before = layout::comparable_cm_gf(r.initial);
+    l.cm_after = layout::comparable_cm_gf(r.final);
+  }
+  l.init = median(init);
+  l.refine = median(refine);
+  l.solve = median(per_solve);
+  print(l);
+}
+
+layout::Target from_mesh(const fs::path& file, const voxel::VoxelizeOptions& vo) {
+  const mesh::Mesh m = mesh::load_mesh(file, {});
+  voxel::VoxelGrid grid = voxel::voxelize(m, vo);
+  voxel::hollow(grid, 3);
+  return layout::target_from_voxels(grid, voxel::Palette::paper(ldraw::ColorTable::standard()));
+}
+
+// Keeps voxels within `shell` of the outside (6-neighbour distance), like voxel::hollow.
+void hollow_target(layout::Target& t, int shell) {
+  std::vector<int> depth(t.color.size(), INT32_MAX);
+  std::vector<size_t> queue;
+  for (int y = 0; y < t.height; ++y)
+    for (int z = 0; z < t.depth; ++z)
+      for (int x = 0; x < t.width; ++x) {
+        if (t.at(x, y, z) == layout::kEmpty) continue;
+        const bool surface =
+            t.at(x - 1, y, z) == layout::kEmpty || t.at(x + 1, y, z) == layout::kEmpty ||
+            t.at(x, y - 1, z) == layout::kEmpty || t.at(x, y + 1, z) == layout::kEmpty ||
+            t.at(x, y, z - 1) == layout::kEmpty || t.at(x, y, z + 1) == layout::kEmpty;
+        if (surface) {
+          depth[t.index(x, y, z)] = 1;
+          queue.push_back(t.index(x, y, z));
+          t.color[t.index(x, y, z)] = 15;
+        }
+      }
+  for (size_t q = 0; q < queue.size(); ++q) {
+    const size_t i = queue[q];
+    const int x = int(i % size_t(t.width)), z = int(i / size_t(t.width) % size_t(t.depth)),
+              y = int(i / (size_t(t.width) * t.depth));
+    for (auto [dx, dy, dz] :
+         {std::array{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}) {
+      if (!t.contains(x + dx, y + dy, z + dz)) continue;
+      const size_t n = t.index(x + dx, y + dy, z + dz);
+      if (t.color[n] == layout::kEmpty || depth[n] != INT32_MAX) continue;
+      depth[n] = depth[i] + 1;
+      queue.push_back(n);
+    }
+  }
+  for (size_t i = 0; i < t.color.size(); ++i)
+    if (depth[i] > shell && t.color[i] != layout::kEmpty) t.color[i] = layout::kEmpty;
+}
+
+// The paper's TABLE at its size: a top two bricks thick over four legs, 95 x 50 x 95 voxels.
+layout::Target paper_table() {
+  layout::Target t(95, 50, 95);
+  for (int y = 0; y < 50; ++y)
+    for (int z = 0; z < 95; ++z)
+      for (int x = 0; x < 95; ++x) {
+        const bool top = y >= 46;
+        const bool leg = (x < 8 || x >= 87) && (z < 8 || z >= 87);
+        if (top || leg) t.set(x, y, z, layout::kIgnore);
+      }
+  hollow_target(t, 3);
+  return t;
+}
+
+// A teapot-like shape of 98 x 40 x 62 voxels: a squat body, a spout, a handle and a lid knob.
+layout::Target teapot_like() {
+  layout::Target t(98, 40, 62);
+  auto set = [&](int x, int y, int z) {
+    if (t.contains(x, y, z)) t.set(x, y, z, layout::kIgnore);
+  };
+  const double cx = 49, cz = 31;
+  for (int y = 0; y < 40; ++y)
+    for (int z = 0; z < 62; ++z)
+      for (int x = 0; x < 98; ++x) {
+        // Voxels are 1.2 studs tall: measure y in studs.
+        const double yy = y * 1.2, dx = x - cx, dz = z - cz;
+        const bool body =
+            (dx * dx + dz * dz) / (30.0 * 30.0) + (yy - 20) * (yy - 20) / (21.0 * 21.0) <= 1;
+        const bool knob = yy >= 40 && yy < 46 && dx * dx + dz * dz <= 25;
+        // Spout: a tube rising from the body's side towards +x.
+        const double s = (x - 75) / 20.0;
+        const bool spout = s >= 0 && s <= 1 && std::hypot(yy - (14 + 24 * s), dz) <= 5 - 2 * s;
+        // Handle: a ring in the x-y plane on the -x side.
+        const bool handle =
+            x < 22 && std::abs(dz) <= 2 && std::abs(std::hypot(x - 19.0, yy - 24) - 11) <= 2.5;
+        if (body || knob || spout || handle) set(x, y, z);
+      }
+  hollow_target(t, 3);
+  return t;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"legolization benchmark (issue 8): stability engine and legolize pipeline"};
+  bool quick = false;
+  int repeat = 3;
+  double max_refine = 600;
+  std::string only;
+  app.add_flag("--quick", quick, "a short run: small inputs, one repetition");
+  app.add_option("--repeat", repeat, "runs per input; medians are printed (default 3)");
+  app.add_option("--max-refine-seconds", max_refine, "cap on one refinement (default 600)");
+  app.add_option("--only", only, "run only inputs whose name contains this");
+  CLI11_PARSE(app, argc, argv);
+  if (quick) repeat = 1;
+  const fs::path source = LEGOLIZATION_SOURCE_DIR;
+  const fs::path bunny = source / ".." / "shared" / "meshes" / "bunny.obj";
+  auto wanted = [&](const std::string& name) {
+    return only.empty() || name.find(only) != std::string::npos;
+  };
+
+  header();
+  std::vector<int> sizes =
+      quick ? std::vector<int>{500, 2000} : std::vector<int>{500, 2000, 8000, 20000};
+  for (int n : sizes)
+    if (wanted(fmt::format("box-{}", n)))
+      stability_line(fmt::format("box-{}", n), bench::hollow_box_of(n), repeat);
+  for (int n : quick ? std::vector<int>{500} : std::vector<int>{500, 2000})
+    if (wanted(fmt::format("tower-{}", n)))
+      stability_line(fmt::format("tower-{}", n), bench::hollow_box(10, 10, n / 8), repeat);
+
+  struct Mesh {
+    std::string name;
+    fs::path file;
+    voxel::VoxelizeOptions options;
+    double load_top = 0;
+  };
+  std::vector<Mesh> meshes{
+      {"sample-table+300g", source / "samples" / "table.obj", {.mm_per_unit = 1}, 300},
+      {"sample-globe-h16", source / "samples" / "globe.ply", {.height_bricks = 16}},
+      {"sample-crate-h8", source / "samples" / "crate.obj", {.height_bricks = 8}},
+  };
+  if (fs::exists(bunny)) {
+    for (int h : quick ? std::vector<int>{20} : std::vector<int>{20, 40, 60})
+      meshes.push_back({fmt::format("bunny-h{}", h), bunny, {.height_bricks = h}});
+    if (!quick) meshes.push_back({"bunny-32x30x46", bunny, {.fit = {32, 30, 46}}});
+  }
+  for (const auto& m : meshes)
+    if (wanted(m.name))
+      pipeline_line(m.name, from_mesh(m.file, m.options), repeat, max_refine, m.load_top);
+  if (!quick) {
+    if (wanted("table-95x50x95")) pipeline_line("table-95x50x95", paper_table(), 1, max_refine);
+    if (wanted("teapot-98x40x62")) pipeline_line("teapot-98x40x62", teapot_like(), 1, max_refine);
+  }
+}
