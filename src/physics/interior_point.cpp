@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 #include <fmt/format.h>
 #include <Eigen/CholmodSupport>
+#include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
@@ -114,9 +115,28 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
         triplets.emplace_back(row_map[p.index[k]], j, p.value[k]);
   SpMat A_used(m, n);
   A_used.setFromTriplets(triplets.begin(), triplets.end());
+  // Dense columns (the scale w of the stability LP touches every loaded row) stay out of the
+  // factored matrix: A·Θ·Aᵀ would be dense. The factor of the rest preconditions the whole
+  // through the Sherman-Morrison-Woodbury formula, and the conjugate gradients below run on the
+  // true matrix, so the answer is the same.
+  std::vector<int> dense;
+  {
+    const double average = double(A_used.nonZeros()) / std::max(n, 1);
+    for (int j = 0; j < n; ++j)
+      if (A_used.col(j).nonZeros() > std::max(64.0, 20 * average)) dense.push_back(j);
+  }
+  std::vector<char> is_dense(n, 0);
+  for (int j : dense) is_dense[j] = 1;
+  auto without_dense = [&](const SpMat& full) {
+    SpMat sparse = full;
+    for (int j : dense)
+      for (SpMat::InnerIterator it(sparse, j); it; ++it) it.valueRef() = 0;
+    sparse.prune(0.0);
+    return sparse;
+  };
   // Drop dependent rows; the solution is checked against them at the end.
   const auto dependent_start = std::chrono::steady_clock::now();
-  const std::vector<char> dependent = dependent_rows(A_used);
+  const std::vector<char> dependent = dependent_rows(without_dense(A_used));
   const double dependent_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - dependent_start).count();
   std::vector<int> kept_row(m, -1);
@@ -139,6 +159,9 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
   A.setFromTriplets(triplets.begin(), triplets.end());
   SpMat At = A.transpose();
   const SpMat A_abs = A.cwiseAbs();
+  const SpMat A_sparse = without_dense(A), A_sparse_t = A_sparse.transpose();
+  Eigen::MatrixXd A_dense(m, Eigen::Index(dense.size()));
+  for (size_t k = 0; k < dense.size(); ++k) A_dense.col(Eigen::Index(k)) = A.col(dense[k]);
   Vec b(m), c = Eigen::Map<const Vec>(p.c.data(), n);
   for (int r = 0; r < p.rows; ++r)
     if (row_map[r] >= 0) b[row_map[r]] = p.b[r];
@@ -215,7 +238,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
     for (int j = 0; j < n; ++j)
       theta[j] = 1.0 / (zl[j] / xl[j] + (has_up[j] ? zu[j] / xu[j] : 0.0));
     auto t0 = std::chrono::steady_clock::now();
-    SpMat M = A * theta.asDiagonal() * At;
+    SpMat M = A_sparse * theta.asDiagonal() * A_sparse_t;
     auto t1 = std::chrono::steady_clock::now();
     if (!analysed) {
       llt.analyzePattern(M);
@@ -246,16 +269,33 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
       fmt::print(stderr, "    form {:.3f}s factor {:.3f}s\n",
                  std::chrono::duration<double>(t1 - t0).count(),
                  std::chrono::duration<double>(t2 - t1).count());
+    // The dense columns' part, for the Woodbury formula: (P + D·Θ_D·Dᵀ)⁻¹ r =
+    // P⁻¹r − U·(Θ_D⁻¹ + Dᵀ·U)⁻¹·Dᵀ·P⁻¹r with U = P⁻¹·D.
+    Eigen::MatrixXd U(m, Eigen::Index(dense.size()));
+    Eigen::LDLT<Eigen::MatrixXd> small;
+    if (!dense.empty()) {
+      for (size_t k = 0; k < dense.size(); ++k)
+        U.col(Eigen::Index(k)) = llt.solve(Vec(A_dense.col(Eigen::Index(k))));
+      Eigen::MatrixXd S = A_dense.transpose() * U;
+      for (size_t k = 0; k < dense.size(); ++k)
+        S(Eigen::Index(k), Eigen::Index(k)) += 1 / theta[dense[k]];
+      small.compute(S);
+    }
+    auto precondition = [&](const Vec& r) {
+      Vec v = llt.solve(r);
+      if (!dense.empty()) v -= U * small.solve(A_dense.transpose() * v);
+      return v;
+    };
     // Conjugate gradients on the unregularized matrix, preconditioned by the regularized factor:
     // near the optimum a few directions are nearly singular, the factor is poor only there, and
     // CG resolves a few outlying directions in a few steps (plain refinement stalls on them).
     auto solve_normal = [&](const Vec& r) {
       auto apply = [&](const Vec& v) { return Vec(A * theta.cwiseProduct(At * v)); };
-      Vec v = llt.solve(r);
+      Vec v = precondition(r);
       Vec residual = r - apply(v);
       const double target = 1e-13 * r.norm();
       if (residual.norm() <= target) return v;
-      Vec z = llt.solve(residual), d = z;
+      Vec z = precondition(residual), d = z;
       double rz = residual.dot(z);
       for (int k = 0; k < 50 && residual.norm() > target; ++k) {
         ++cg_steps;
@@ -265,7 +305,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
         const double alpha = rz / curvature;
         v += alpha * d;
         residual -= alpha * Md;
-        z = llt.solve(residual);
+        z = precondition(residual);
         const double rz_next = residual.dot(z);
         d = z + (rz_next / rz) * d;
         rz = rz_next;

@@ -1,9 +1,10 @@
 #pragma once
 // A primal-dual interior point method (Mehrotra's predictor-corrector) for
 //   min c·x  s.t.  A·x = b,  l ≤ x ≤ u   (every l finite; u may be infinite)
-// with A sparse, every column included: a dense column would make the normal equations A·Θ·Aᵀ
-// dense (split it instead, docs/stability-lp.md). CHOLMOD factors them. Rows that depend on
-// others are found and dropped first, and checked at the end.
+// with A sparse but for a few dense columns, which are kept out of the factored normal equations
+// A·Θ·Aᵀ (they would make it dense) and brought back by the Sherman-Morrison-Woodbury formula and
+// conjugate gradients. CHOLMOD factors them. Rows that depend on others are found and dropped
+// first, and checked at the end.
 #include <string>
 #include <vector>
 

@@ -101,31 +101,14 @@ LpSolution solve_interior(const LpData& lp) {
   return s;
 }
 
-// The scaled LP: max w s.t. A·ξ − (b/T)·w = 0. Column sys.columns() is w. With `split`, w has
-// one copy per brick, on that brick's rows, chained by rows w_i − w_{i+1} = 0: the same LP
-// without a dense column, which the interior point method's normal equations need.
-LpData scaled_lp(const EquilibriumSystem& sys, double support_bound, bool split) {
+// The scaled LP: max w s.t. A·ξ − (b/T)·w = 0. Column sys.columns() is w, the one dense column
+// (every loaded row); our interior point method keeps it out of its factorization.
+LpData scaled_lp(const EquilibriumSystem& sys, double support_bound) {
   LpData lp = equilibrium_lp(sys, 1.0, 0.0, support_bound);
-  const int bricks = sys.rows / 6;
-  if (!split) {
-    std::vector<std::pair<int, double>> entries;
-    for (int row = 0; row < sys.rows; ++row)
-      if (sys.rhs[row] != 0) entries.emplace_back(row, -sys.rhs[row] / kMaxFrictionLoad);
-    lp.add_column(0, kMaxScale, -1, entries);
-    return lp;
-  }
-  lp.rows += bricks - 1;
-  lp.row_lower.resize(lp.rows, 0.0);
-  lp.row_upper.resize(lp.rows, 0.0);
-  for (int i = 0; i < bricks; ++i) {
-    std::vector<std::pair<int, double>> entries;
-    for (int e = 0; e < 6; ++e)
-      if (int row = EquilibriumSystem::row(i, e); sys.rhs[row] != 0)
-        entries.emplace_back(row, -sys.rhs[row] / kMaxFrictionLoad);
-    if (i > 0) entries.emplace_back(sys.rows + i - 1, -1.0);
-    if (i + 1 < bricks) entries.emplace_back(sys.rows + i, 1.0);
-    lp.add_column(0, kMaxScale, i == 0 ? -1 : 0, entries);
-  }
+  std::vector<std::pair<int, double>> entries;
+  for (int row = 0; row < sys.rows; ++row)
+    if (sys.rhs[row] != 0) entries.emplace_back(row, -sys.rhs[row] / kMaxFrictionLoad);
+  lp.add_column(0, kMaxScale, -1, entries);
   return lp;
 }
 
@@ -156,7 +139,7 @@ void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, Stabi
   auto attempt = [&](LpMethod method, double first_bound) {
     LpSolution s;
     for (double bound = first_bound;; bound = bound < 1e12 ? bound * 1e3 : kInfinity) {
-      LpData lp = scaled_lp(sys, bound, method == LpMethod::InteriorPoint);
+      LpData lp = scaled_lp(sys, bound);
       r.stats.rows = lp.rows;
       r.stats.columns = lp.columns();
       r.stats.nonzeros = int(lp.index.size());
