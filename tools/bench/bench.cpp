@@ -125,80 +125,60 @@ layout::Target from_mesh(const fs::path& file, const voxel::VoxelizeOptions& vo)
   return layout::target_from_voxels(grid, voxel::Palette::paper(ldraw::ColorTable::standard()));
 }
 
-// Keeps voxels within `shell` of the outside (6-neighbour distance), like voxel::hollow.
-void hollow_target(layout::Target& t, int shell) {
-  std::vector<int> depth(t.color.size(), INT32_MAX);
-  std::vector<size_t> queue;
-  for (int y = 0; y < t.height; ++y)
-    for (int z = 0; z < t.depth; ++z)
-      for (int x = 0; x < t.width; ++x) {
-        if (t.at(x, y, z) == layout::kEmpty) continue;
-        const bool surface =
-            t.at(x - 1, y, z) == layout::kEmpty || t.at(x + 1, y, z) == layout::kEmpty ||
-            t.at(x, y - 1, z) == layout::kEmpty || t.at(x, y + 1, z) == layout::kEmpty ||
-            t.at(x, y, z - 1) == layout::kEmpty || t.at(x, y, z + 1) == layout::kEmpty;
-        if (surface) {
-          depth[t.index(x, y, z)] = 1;
-          queue.push_back(t.index(x, y, z));
-          t.color[t.index(x, y, z)] = 15;
-        }
+// A shape given voxel by voxel, hollowed to a shell of 3 as legolize does: voxels next to an
+// empty one are its surface (white), voxel::hollow keeps what lies within 3 of them.
+layout::Target hollowed(int width, int height, int depth,
+                        const std::function<bool(int, int, int)>& inside) {
+  voxel::VoxelGrid g;
+  g.width = width, g.height = height, g.depth = depth;
+  g.cells.assign(size_t(width) * height * depth, voxel::Cell::Empty);
+  g.color.assign(g.cells.size(), mesh::Rgb{1, 1, 1});
+  for (int y = 0; y < height; ++y)
+    for (int z = 0; z < depth; ++z)
+      for (int x = 0; x < width; ++x)
+        if (inside(x, y, z)) g.cells[g.index(x, y, z)] = voxel::Cell::Inside;
+  std::vector<size_t> surface;
+  for (int y = 0; y < height; ++y)
+    for (int z = 0; z < depth; ++z)
+      for (int x = 0; x < width; ++x) {
+        if (g.at(x, y, z) == voxel::Cell::Empty) continue;
+        for (auto [dx, dy, dz] :
+             {std::array{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}})
+          if (g.at(x + dx, y + dy, z + dz) == voxel::Cell::Empty) {
+            surface.push_back(g.index(x, y, z));
+            break;
+          }
       }
-  for (size_t q = 0; q < queue.size(); ++q) {
-    const size_t i = queue[q];
-    const int x = int(i % size_t(t.width)), z = int(i / size_t(t.width) % size_t(t.depth)),
-              y = int(i / (size_t(t.width) * t.depth));
-    for (auto [dx, dy, dz] :
-         {std::array{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}) {
-      if (!t.contains(x + dx, y + dy, z + dz)) continue;
-      const size_t n = t.index(x + dx, y + dy, z + dz);
-      if (t.color[n] == layout::kEmpty || depth[n] != INT32_MAX) continue;
-      depth[n] = depth[i] + 1;
-      queue.push_back(n);
-    }
-  }
-  for (size_t i = 0; i < t.color.size(); ++i)
-    if (depth[i] > shell && t.color[i] != layout::kEmpty) t.color[i] = layout::kEmpty;
+  for (size_t i : surface) g.cells[i] = voxel::Cell::Surface;
+  voxel::hollow(g, 3);
+  return layout::target_from_voxels(g, voxel::Palette::paper(ldraw::ColorTable::standard()));
 }
 
 // The paper's TABLE at its size: a top two bricks thick over four legs, 95 x 50 x 95 voxels.
 layout::Target paper_table() {
-  layout::Target t(95, 50, 95);
-  for (int y = 0; y < 50; ++y)
-    for (int z = 0; z < 95; ++z)
-      for (int x = 0; x < 95; ++x) {
-        const bool top = y >= 46;
-        const bool leg = (x < 8 || x >= 87) && (z < 8 || z >= 87);
-        if (top || leg) t.set(x, y, z, layout::kIgnore);
-      }
-  hollow_target(t, 3);
-  return t;
+  return hollowed(95, 50, 95, [](int x, int y, int z) {
+    const bool top = y >= 46;
+    const bool leg = (x < 8 || x >= 87) && (z < 8 || z >= 87);
+    return top || leg;
+  });
 }
 
 // A teapot-like shape of 98 x 40 x 62 voxels: a squat body, a spout, a handle and a lid knob.
 layout::Target teapot_like() {
-  layout::Target t(98, 40, 62);
-  auto set = [&](int x, int y, int z) {
-    if (t.contains(x, y, z)) t.set(x, y, z, layout::kIgnore);
-  };
-  const double cx = 49, cz = 31;
-  for (int y = 0; y < 40; ++y)
-    for (int z = 0; z < 62; ++z)
-      for (int x = 0; x < 98; ++x) {
-        // Voxels are 1.2 studs tall: measure y in studs.
-        const double yy = y * 1.2, dx = x - cx, dz = z - cz;
-        const bool body =
-            (dx * dx + dz * dz) / (30.0 * 30.0) + (yy - 20) * (yy - 20) / (21.0 * 21.0) <= 1;
-        const bool knob = yy >= 40 && yy < 46 && dx * dx + dz * dz <= 25;
-        // Spout: a tube rising from the body's side towards +x.
-        const double s = (x - 75) / 20.0;
-        const bool spout = s >= 0 && s <= 1 && std::hypot(yy - (14 + 24 * s), dz) <= 5 - 2 * s;
-        // Handle: a ring in the x-y plane on the -x side.
-        const bool handle =
-            x < 22 && std::abs(dz) <= 2 && std::abs(std::hypot(x - 19.0, yy - 24) - 11) <= 2.5;
-        if (body || knob || spout || handle) set(x, y, z);
-      }
-  hollow_target(t, 3);
-  return t;
+  return hollowed(98, 40, 62, [](int x, int y, int z) {
+    // Voxels are 1.2 studs tall: measure y in studs.
+    const double yy = y * 1.2, dx = x - 49.0, dz = z - 31.0;
+    const bool body =
+        (dx * dx + dz * dz) / (30.0 * 30.0) + (yy - 20) * (yy - 20) / (21.0 * 21.0) <= 1;
+    const bool knob = yy >= 40 && yy < 46 && dx * dx + dz * dz <= 25;
+    // Spout: a tube rising from the body's side towards +x.
+    const double s = (x - 75) / 20.0;
+    const bool spout = s >= 0 && s <= 1 && std::hypot(yy - (14 + 24 * s), dz) <= 5 - 2 * s;
+    // Handle: a ring in the x-y plane on the -x side.
+    const bool handle =
+        x < 22 && std::abs(dz) <= 2 && std::abs(std::hypot(x - 19.0, yy - 24) - 11) <= 2.5;
+    return body || knob || spout || handle;
+  });
 }
 
 }  // namespace
