@@ -8,21 +8,10 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/csv.h"
 #include "core/error.h"
 
 namespace lego {
-namespace {
-
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> fields;
-  std::string field;
-  std::istringstream in(line);
-  while (std::getline(in, field, ',')) fields.push_back(field);
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
-}
-
-}  // namespace
 
 std::string normalize_reference(std::string_view name) {
   std::string out;

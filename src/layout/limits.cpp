@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <fstream>
 
+#include "core/csv.h"
 #include "core/error.h"
 #include "core/lattice.h"
 #include "ldraw/color_table.h"
@@ -11,13 +12,6 @@
 namespace lego::layout {
 
 namespace {
-
-std::string trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
-    s.remove_suffix(1);
-  return std::string(s);
-}
 
 bool parse_int(std::string_view s, int& out) {
   auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
@@ -127,13 +121,7 @@ void Limits::read_inventory(const std::filesystem::path& csv, const BrickCatalog
   for (int line = 1; std::getline(in, text); ++line) {
     const std::string row = trim(text);
     if (row.empty() || row[0] == '#') continue;
-    std::vector<std::string> fields;
-    for (size_t start = 0;;) {
-      const size_t comma = row.find(',', start);
-      fields.push_back(trim(row.substr(start, comma - start)));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
+    const std::vector<std::string> fields = split_csv(row);
     if (line == 1 && !fields.empty() && fields[0] == "part") continue;  // the header
     if (fields.size() != 3)
       throw InputError(

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "core/brick_catalog.h"
+#include "core/csv.h"
 #include "core/error.h"
 #include "ldraw/color_table.h"
 
@@ -41,13 +42,7 @@ BrickLinkMap BrickLinkMap::load(const std::filesystem::path& csv) {
   std::string line;
   for (int n = 1; std::getline(in, line); ++n) {
     if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> f;
-    for (size_t start = 0;;) {
-      const size_t comma = line.find(',', start);
-      f.push_back(line.substr(start, comma - start));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
+    const std::vector<std::string> f = split_csv(line);
     if (f.size() < 3) throw InputError(csv.string(), n, "expected kind,ldraw,bricklink[,name]");
     if (f[0] == "part") {
       map.items_[f[1]] = f[2];
