@@ -54,10 +54,6 @@ ConnectResult initialize_layout(Layout& layout, const MergeRules& rules, Random&
   return connect_components(layout, rules, rng, options);
 }
 
-}  // namespace lego::layout
-
-namespace lego::layout {
-
 size_t reduce_unit_bricks(Layout& layout, const MergeRules& rules, Random& rng, int tries) {
   std::vector<int> units;
   for (int id : layout.brick_ids())
