@@ -216,6 +216,8 @@ int main(int argc, char** argv) {
     check_output("--bricklink", bricklink, input);
     check_output("--report", report_path, input);
     check_output("--heatmap", heatmap, input);
+    if (voxels_only && !heatmap.empty())
+      throw InputError("", 0, "--heatmap needs the brick layout; --voxels-only stops before it");
     const voxel::Palette palette = parse_palette(palette_spec);
     mesh::MeshOptions mesh_options;
     if (default_color >= 0) {
@@ -374,7 +376,7 @@ int main(int argc, char** argv) {
     if (!parts_list.empty()) files.emplace_back(parts_list, report::parts_list_csv(parts));
     if (!bricklink.empty())
       files.emplace_back(bricklink, report::bricklink_xml(parts, report::BrickLinkMap::standard()));
-    if (!heatmap.empty() && !voxels_only) {
+    if (!heatmap.empty()) {
       stage("per-brick capacity for the heat map");
       physics::StabilityOptions with_capacity = refine.stability;
       with_capacity.brick_capacity = true;

@@ -314,6 +314,7 @@ TEST(Legolize, BadInputForTheConversionExitsTwoAndWritesNothing) {
       {{mesh, "--load", "500,0,0:10"}, "no voxel there"},
       {{mesh, "--report", "/nonexistent-dir/r.json"}, "does not exist"},
       {{mesh, "--heatmap", "/proc/heat.ldr"}, "heat.ldr"},
+      {{mesh, "--voxels-only", "--heatmap", scratch("h.ldr").string()}, "--voxels-only"},
   };
   fs::remove(out);
   for (auto& c : cases) {
