@@ -32,16 +32,20 @@ std::optional<LayoutBrick> merged_shape(const Layout& layout, int a, int b, cons
   return m;
 }
 
-bool mergeable(const Layout& layout, int a, int b, const MergeRules& rules) {
+std::optional<LayoutBrick> merge_of(const Layout& layout, int a, int b, const MergeRules& rules) {
   auto m = merged_shape(layout, a, b, rules.family);
-  if (!m) return false;
+  if (!m) return std::nullopt;
   const int ca = layout.brick(a).color, cb = layout.brick(b).color;
   const bool two_colors = ca != kIgnore && cb != kIgnore && ca != cb;
-  if (!two_colors) return rules.limits.allow(layout, *m);
-  if (rules.color == ColorRule::Hard) return false;
+  if (!two_colors) return rules.limits.allow(layout, *m) ? m : std::nullopt;
+  if (rules.color == ColorRule::Hard) return std::nullopt;
   LayoutBrick other = *m;
   other.color = cb;
-  return rules.limits.allow(layout, *m) || rules.limits.allow(layout, other);
+  return rules.limits.allow(layout, *m) || rules.limits.allow(layout, other) ? m : std::nullopt;
+}
+
+bool mergeable(const Layout& layout, int a, int b, const MergeRules& rules) {
+  return merge_of(layout, a, b, rules).has_value();
 }
 
 int color_mismatches(const Layout& layout, const LayoutBrick& brick) {
@@ -158,8 +162,9 @@ size_t random_merge(Layout& layout, std::span<const int> seeds, const MergeRules
       const auto [a, b] = pool.pop(rng);
       if (!layout.alive(a) || !layout.alive(b)) continue;
       // Counts may have changed since the pair was listed: check the rules again.
-      if (!mergeable(layout, a, b, rules)) continue;
-      LayoutBrick m = *merged_shape(layout, a, b, rules.family);
+      std::optional<LayoutBrick> merged = merge_of(layout, a, b, rules);
+      if (!merged) continue;
+      LayoutBrick m = *merged;
       const int ca = layout.brick(a).color, cb = layout.brick(b).color;
       if (ca != kIgnore && cb != kIgnore && ca != cb &&
           !choose_color(layout, m, ca, cb, rules, rng))

@@ -41,6 +41,8 @@ std::optional<LayoutBrick> merged_shape(const Layout& layout, int a, int b, cons
 // Whether a and b can merge under the rules: shape, color rule (hard: cases 1-3 only) and limits.
 // Deterministic; the soft rule's random discard (p_d) comes on top in random_merge.
 bool mergeable(const Layout& layout, int a, int b, const MergeRules& rules);
+// The merged brick when a and b are mergeable (its color a's in case 4, to be drawn), else none.
+std::optional<LayoutBrick> merge_of(const Layout& layout, int a, int b, const MergeRules& rules);
 
 // Algorithm 4 (and the remerge of Algorithm 2): every mergeable pair with a brick among `seeds`
 // goes into a list; pairs are popped at random and merged, and the merged brick's pairs are
