@@ -366,13 +366,11 @@ int main(int argc, char** argv) {
     ldraw::WriteOptions w;
     w.title = (voxels_only ? "Voxels of " : "LEGO ") + fs::path(input).stem().string();
     w.author = "legolize";
-    w.name = fs::path(output).filename().string();
     const auto parts = report::count_parts(assembly);
     // Every text is made before any file is written, and the files land all or none: a refused
     // BrickLink list (an unmapped color) or an unwritable heat map leaves nothing behind.
     std::vector<std::pair<fs::path, std::string>> files;
-    files.emplace_back(output, ext == ".mpd" || ext == ".MPD" ? ldraw::to_mpd(assembly, w)
-                                                              : ldraw::to_ldr(assembly, w));
+    files.emplace_back(output, ldraw::model_text(output, assembly, w));
     if (!parts_list.empty()) files.emplace_back(parts_list, report::parts_list_csv(parts));
     if (!bricklink.empty())
       files.emplace_back(bricklink, report::bricklink_xml(parts, report::BrickLinkMap::standard()));

@@ -103,6 +103,14 @@ std::filesystem::path temporary_for(const std::filesystem::path& path) {
   return tmp;
 }
 
+// Whether `path` names an .mpd (any case).
+bool is_mpd(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext == ".mpd";
+}
+
 void write_temporary(const std::filesystem::path& path, const std::string& text) {
   const auto tmp = temporary_for(path);
   std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -144,14 +152,15 @@ void write_files_atomically(
   }
 }
 
+std::string model_text(const std::filesystem::path& path, const Assembly& assembly,
+                       WriteOptions options) {
+  if (options.name.empty()) options.name = path.filename().string();
+  return is_mpd(path) ? to_mpd(assembly, options) : to_ldr(assembly, options);
+}
+
 void write_model(const std::filesystem::path& path, const Assembly& assembly,
                  WriteOptions options) {
-  if (options.name.empty()) options.name = path.filename().string();
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  write_file_atomically(path,
-                        ext == ".mpd" ? to_mpd(assembly, options) : to_ldr(assembly, options));
+  write_file_atomically(path, model_text(path, assembly, std::move(options)));
 }
 
 }  // namespace lego::ldraw

@@ -30,7 +30,10 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
 void write_files_atomically(
     const std::vector<std::pair<std::filesystem::path, std::string>>& files);
 
-// to_ldr or to_mpd by the extension of `path`, then written atomically.
+// to_ldr or to_mpd by the extension of `path`; the name defaults to its file name.
+std::string model_text(const std::filesystem::path& path, const Assembly& assembly,
+                       WriteOptions options);
+// model_text, written atomically.
 void write_model(const std::filesystem::path& path, const Assembly& assembly, WriteOptions options);
 
 }  // namespace lego::ldraw
