@@ -7,50 +7,18 @@
 #include <map>
 
 #include "physics/clp_lp.h"
-#include "physics/interior_point.h"
+#include "physics/scaled_lp.h"
 
 namespace lego::physics {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-// In the scaled form w = T / max f. Past this bound friction is negligible: C_M = T.
-constexpr double kMaxScale = 1e6;
 // Below this w (friction above 1000 T) we confirm that an equilibrium exists at all before
 // trusting 1/w: an infeasible model shows up as w* = 0 up to the solver's tolerance.
 constexpr double kConfirmBelow = 1e-3;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// The equilibrium columns with the bounds of their kind; friction bounded by `friction_upper`,
-// support forces by ±support_bound (free when infinite).
-LpData equilibrium_lp(const EquilibriumSystem& sys, double friction_upper, double rhs_scale,
-                      double support_bound = kInfinity) {
-  LpData lp;
-  lp.rows = sys.rows;
-  lp.start = sys.column_start;
-  lp.index = sys.row_index;
-  lp.value = sys.value;
-  for (int j = 0; j < sys.columns(); ++j) {
-    switch (sys.kind[j]) {
-      case ForceKind::Friction:
-        lp.col_lower.push_back(0), lp.col_upper.push_back(friction_upper);
-        break;
-      case ForceKind::Normal:
-        lp.col_lower.push_back(0), lp.col_upper.push_back(kInfinity);
-        break;
-      case ForceKind::Support:
-        lp.col_lower.push_back(-support_bound), lp.col_upper.push_back(support_bound);
-        break;
-    }
-    lp.objective.push_back(0);
-  }
-  for (double b : sys.rhs) {
-    lp.row_lower.push_back(b * rhs_scale);
-    lp.row_upper.push_back(b * rhs_scale);
-  }
-  return lp;
 }
 
 void rank_weakest(const EquilibriumSystem& sys, const ContactGraph& g,
@@ -76,44 +44,8 @@ void rank_weakest(const EquilibriumSystem& sys, const ContactGraph& g,
                    [&](const WeakContact& a, const WeakContact& b) { return key(a) > key(b); });
 }
 
-// Our interior point method on an LP whose columns are all sparse.
-LpSolution solve_interior(const LpData& lp) {
-  IpmProblem p;
-  p.rows = lp.rows;
-  p.start = lp.start;
-  p.index = lp.index;
-  p.value = lp.value;
-  p.c = lp.objective;
-  p.b = lp.row_lower;
-  p.lower = lp.col_lower;
-  p.upper = lp.col_upper;
-  IpmResult r = solve_interior_point(p);
-  LpSolution s;
-  s.iterations = r.iterations;
-  s.message = r.message;
-  if (!r.converged) return s;  // outcome: Failed
-  s.outcome = LpOutcome::Optimal;
-  s.objective = r.objective;
-  s.x = std::move(r.x);
-  s.row_dual = std::move(r.y);
-  s.reduced_cost.resize(s.x.size());
-  for (size_t j = 0; j < s.x.size(); ++j) s.reduced_cost[j] = r.z_lower[j] - r.z_upper[j];
-  return s;
-}
-
-// The scaled LP: max w s.t. A·ξ − (b/T)·w = 0. Column sys.columns() is w, the one dense column
-// (every loaded row); our interior point method keeps it out of its factorization.
-LpData scaled_lp(const EquilibriumSystem& sys, double support_bound) {
-  LpData lp = equilibrium_lp(sys, 1.0, 0.0, support_bound);
-  std::vector<std::pair<int, double>> entries;
-  for (int row = 0; row < sys.rows; ++row)
-    if (sys.rhs[row] != 0) entries.emplace_back(row, -sys.rhs[row] / kMaxFrictionLoad);
-  lp.add_column(0, kMaxScale, -1, entries);
-  return lp;
-}
-
 bool equilibrium_exists(const EquilibriumSystem& sys, const StabilityOptions& o) {
-  LpData lp = equilibrium_lp(sys, kInfinity, 1.0 / kMaxFrictionLoad);
+  LpData lp = equilibrium_lp(sys, kInfinity, 1.0 / kMaxFrictionLoad, kInfinity);
   return solve_lp(lp, LpMethod::DualSimplex, o.presolve, o.scaling, o.max_seconds).outcome !=
          LpOutcome::Infeasible;
 }
@@ -124,41 +56,9 @@ void set_failure(StabilityResult& r, const LpSolution& s) {
   r.message = s.message;
 }
 
-// True when some support force of the solution sits on its artificial bound.
-bool support_at_bound(const EquilibriumSystem& sys, const LpSolution& s, double bound) {
-  for (int j = 0; j < sys.columns(); ++j)
-    if (sys.kind[j] == ForceKind::Support && std::abs(s.x[j]) >= bound * (1 - 1e-6)) return true;
-  return false;
-}
-
 void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, StabilityResult& r) {
-  // Support forces are free in the model. Bounding them lets the barrier converge in tens of
-  // iterations instead of hundreds (the simplex is slower with them bounded, so it keeps them
-  // free); a bound the solution touches is raised and the LP solved again, so the answer stays
-  // that of the free problem.
-  auto attempt = [&](LpMethod method, double first_bound) {
-    LpSolution s;
-    for (double bound = first_bound;; bound = bound < 1e12 ? bound * 1e3 : kInfinity) {
-      LpData lp = scaled_lp(sys, bound);
-      r.stats.rows = lp.rows;
-      r.stats.columns = lp.columns();
-      r.stats.nonzeros = int(lp.index.size());
-      s = method == LpMethod::InteriorPoint
-              ? solve_interior(lp)
-              : solve_lp(lp, method, o.presolve, o.scaling, o.max_seconds);
-      r.stats.iterations += s.iterations;
-      if (s.outcome != LpOutcome::Optimal || std::isinf(bound) || !support_at_bound(sys, s, bound))
-        return s;
-    }
-  };
-  const bool interior = o.method == LpMethod::InteriorPoint || o.method == LpMethod::Barrier ||
-                        o.method == LpMethod::BarrierNoCrossover;
-  LpSolution s = attempt(o.method, interior ? o.support_bound : kInfinity);
-  if (o.method == LpMethod::InteriorPoint && s.outcome != LpOutcome::Optimal) {
-    // Exact all the same: Clp's dual simplex takes over, and the result says so.
-    r.message = s.message + "; solved by Clp's dual simplex instead";
-    s = attempt(LpMethod::DualSimplex, kInfinity);
-  }
+  LpSolution s = solve_supports_boxed([&](double bound) { return scaled_lp(sys, bound); }, o,
+                                      r.message, &r.stats);
   if (s.outcome != LpOutcome::Optimal) return set_failure(r, s);  // w = 0 is always feasible
   const double w = s.x[sys.columns()];
   // At the cap, within the solver's tolerance: the difference from T is at most T/kMaxScale.
@@ -174,6 +74,10 @@ void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, Stabi
   }
   r.status = StabilityStatus::Solved;
   r.cm = kMaxFrictionLoad * (1 - 1 / w);
+  r.forces.resize(size_t(sys.columns()));
+  for (int j = 0; j < sys.columns(); ++j)
+    r.forces[size_t(j)] = s.x[size_t(j)] * kMaxFrictionLoad / w;
+  r.row_duals = std::move(s.row_dual);
   std::vector<double> duals(sys.friction_columns, 0.0);
   for (int j = 0; j < sys.friction_columns; ++j)
     if (s.x[j] > 1 - 1e-6) duals[j] = s.reduced_cost[j];
@@ -228,7 +132,7 @@ void brick_capacity(const Assembly& a, const EquilibriumSystem& sys, const Stabi
   r.brick_capacity.assign(n, kMaxFrictionLoad);
   const double u = (kMaxFrictionLoad - r.cm) / kMaxFrictionLoad;  // max friction, in units of T
   if (u <= 0) return;
-  LpData lp = equilibrium_lp(sys, u * (1 + 1e-7) + 1e-9, 1.0 / kMaxFrictionLoad);
+  LpData lp = equilibrium_lp(sys, u * (1 + 1e-7) + 1e-9, 1.0 / kMaxFrictionLoad, kInfinity);
   lp.quadratic_diagonal.assign(lp.columns(), 0.0);
   for (int j = 0; j < sys.friction_columns; ++j) lp.quadratic_diagonal[j] = 1.0;
   LpSolution s = solve_lp(lp, LpMethod::PrimalSimplex, false, o.scaling, o.max_seconds);

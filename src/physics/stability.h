@@ -65,6 +65,10 @@ struct StabilityResult {
   Connectivity connectivity;
   LpStats stats;
   std::string message;  // the solver's words when it did not solve
+  // The optimum of the scaled form (Solved, C_M < T): every force, in g·m/s², per column of
+  // build_equilibrium(assembly, graph), and the LP's row duals (Clp's sign: reduced cost =
+  // c − Aᵀy, with c = −1 on w). What local_bounds.h starts from; empty otherwise.
+  std::vector<double> forces, row_duals;
 
   double cm_newton() const { return cm / 1000.0; }
   double cm_gf() const { return cm / kGravity; }

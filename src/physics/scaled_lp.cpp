@@ -1,0 +1,120 @@
+#include "physics/scaled_lp.h"
+
+#include <cmath>
+#include <limits>
+
+#include "physics/interior_point.h"
+
+namespace lego::physics {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// Our interior point method on an LP whose columns are all sparse but a few.
+LpSolution solve_interior(const LpData& lp) {
+  IpmProblem p;
+  p.rows = lp.rows;
+  p.start = lp.start;
+  p.index = lp.index;
+  p.value = lp.value;
+  p.c = lp.objective;
+  p.b = lp.row_lower;
+  p.lower = lp.col_lower;
+  p.upper = lp.col_upper;
+  IpmResult r = solve_interior_point(p);
+  LpSolution s;
+  s.iterations = r.iterations;
+  s.message = r.message;
+  if (!r.converged) return s;  // outcome: Failed
+  s.outcome = LpOutcome::Optimal;
+  s.objective = r.objective;
+  s.x = std::move(r.x);
+  s.row_dual = std::move(r.y);
+  s.reduced_cost.resize(s.x.size());
+  for (size_t j = 0; j < s.x.size(); ++j) s.reduced_cost[j] = r.z_lower[j] - r.z_upper[j];
+  return s;
+}
+
+// True when a column boxed at ±bound sits on the box.
+bool touches_box(const LpData& lp, const LpSolution& s, double bound) {
+  for (int j = 0; j < lp.columns(); ++j)
+    if (lp.col_lower[size_t(j)] == -bound && lp.col_upper[size_t(j)] == bound &&
+        std::abs(s.x[size_t(j)]) >= bound * (1 - 1e-6))
+      return true;
+  return false;
+}
+
+}  // namespace
+
+LpData equilibrium_lp(const EquilibriumSystem& sys, double friction_upper, double rhs_scale,
+                      double support_bound) {
+  LpData lp;
+  lp.rows = sys.rows;
+  lp.start = sys.column_start;
+  lp.index = sys.row_index;
+  lp.value = sys.value;
+  for (int j = 0; j < sys.columns(); ++j) {
+    switch (sys.kind[size_t(j)]) {
+      case ForceKind::Friction:
+        lp.col_lower.push_back(0), lp.col_upper.push_back(friction_upper);
+        break;
+      case ForceKind::Normal:
+        lp.col_lower.push_back(0), lp.col_upper.push_back(kInfinity);
+        break;
+      case ForceKind::Support:
+        lp.col_lower.push_back(-support_bound), lp.col_upper.push_back(support_bound);
+        break;
+    }
+    lp.objective.push_back(0);
+  }
+  for (double b : sys.rhs) {
+    lp.row_lower.push_back(b * rhs_scale);
+    lp.row_upper.push_back(b * rhs_scale);
+  }
+  return lp;
+}
+
+LpData scaled_lp(const EquilibriumSystem& sys, double support_bound) {
+  LpData lp = equilibrium_lp(sys, 1.0, 0.0, support_bound);
+  std::vector<std::pair<int, double>> entries;
+  for (int row = 0; row < sys.rows; ++row)
+    if (sys.rhs[size_t(row)] != 0)
+      entries.emplace_back(row, -sys.rhs[size_t(row)] / kMaxFrictionLoad);
+  lp.add_column(0, kMaxScale, -1, entries);
+  return lp;
+}
+
+LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
+                                const StabilityOptions& o, std::string& message, LpStats* stats) {
+  // Support forces are free in the model. Bounding them lets the barrier converge in tens of
+  // iterations instead of hundreds (the simplex is slower with them bounded, so it keeps them
+  // free); a bound the solution touches is raised and the LP solved again.
+  auto attempt = [&](LpMethod method, double first_bound) {
+    LpSolution s;
+    for (double bound = first_bound;; bound = bound < 1e12 ? bound * 1e3 : kInfinity) {
+      const LpData lp = make(bound);
+      if (stats) {
+        stats->rows = lp.rows;
+        stats->columns = lp.columns();
+        stats->nonzeros = int(lp.index.size());
+      }
+      s = method == LpMethod::InteriorPoint
+              ? solve_interior(lp)
+              : solve_lp(lp, method, o.presolve, o.scaling, o.max_seconds);
+      if (stats) stats->iterations += s.iterations;
+      if (s.outcome != LpOutcome::Optimal || std::isinf(bound) || !touches_box(lp, s, bound))
+        return s;
+    }
+  };
+  const bool interior = o.method == LpMethod::InteriorPoint || o.method == LpMethod::Barrier ||
+                        o.method == LpMethod::BarrierNoCrossover;
+  LpSolution s = attempt(o.method, interior ? o.support_bound : kInfinity);
+  if (o.method == LpMethod::InteriorPoint && s.outcome != LpOutcome::Optimal) {
+    // Exact all the same: Clp's dual simplex takes over, and the result says so.
+    message = s.message + "; solved by Clp's dual simplex instead";
+    s = attempt(LpMethod::DualSimplex, kInfinity);
+  }
+  return s;
+}
+
+}  // namespace lego::physics

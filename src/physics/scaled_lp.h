@@ -1,0 +1,36 @@
+#pragma once
+// The scaled form of the stability LP (docs/stability-lp.md) and how it is solved: support forces
+// boxed while the interior point method runs, the box widened when the answer touches it, Clp's
+// dual simplex when the interior point method fails. Shared by the whole-model analysis
+// (stability.cpp) and the local bounds of refinement (local_bounds.cpp).
+#include <functional>
+#include <string>
+
+#include "physics/clp_lp.h"
+#include "physics/force_model.h"
+#include "physics/stability.h"
+
+namespace lego::physics {
+
+// In the scaled form w = T / max f. Past this bound friction is negligible: C_M = T.
+inline constexpr double kMaxScale = 1e6;
+
+// The equilibrium columns with the bounds of their kind: friction in [0, friction_upper], normal
+// forces ≥ 0, support forces in ±support_bound (free when infinite); rows A·x = rhs_scale·b.
+LpData equilibrium_lp(const EquilibriumSystem& sys, double friction_upper, double rhs_scale,
+                      double support_bound);
+
+// max w s.t. A·ξ − (b/T)·w = 0, 0 ≤ ξ_friction ≤ 1, 0 ≤ w ≤ kMaxScale (minimizes −w). Column
+// sys.columns() is w, the one dense column.
+LpData scaled_lp(const EquilibriumSystem& sys, double support_bound);
+
+// Solves the LP that `make(bound)` builds with its support columns boxed at ±bound (those whose
+// bounds are exactly ±bound), by options.method: interior methods start at
+// options.support_bound and widen the box by 1000 while the answer touches it, so the answer is
+// that of the free problem; our interior point method hands over to Clp's dual simplex when it
+// fails, and `message` says so. Row duals follow Clp's sign: reduced cost = c − Aᵀy.
+LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
+                                const StabilityOptions& options, std::string& message,
+                                LpStats* stats = nullptr);
+
+}  // namespace lego::physics
