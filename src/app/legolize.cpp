@@ -171,6 +171,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"baseplate", "table"}))
       ->group(g_physics);
   app.add_flag("--no-refine", no_refine, "skip the stability-aware refinement")->group(g_physics);
+  bool no_local_bounds = false;
+  app.add_flag("--no-local-bounds", no_local_bounds,
+               "analyse every refinement candidate on the whole model instead of rejecting "
+               "most on a local upper bound first (the same result, slower; for comparison)")
+      ->group(g_physics);
   int jobs = 2;
   app.add_option("--jobs", jobs,
                  "refinement candidates analysed at once, one thread each (default 2; 1 is the "
@@ -239,6 +244,7 @@ int main(int argc, char** argv) {
     refine.min_cm_gf = min_cm;
     refine.fail_max = fail_max;
     refine.candidates_per_round = jobs;
+    if (no_local_bounds) refine.bound_ring = -1;
     refine.inside_color = kInsideColor;
     refine.stability.ground =
         ground == "table" ? physics::GroundMode::Table : physics::GroundMode::Baseplate;
@@ -324,10 +330,13 @@ int main(int argc, char** argv) {
         rep.iterations = refined.iterations;
         rep.accepted = refined.accepted;
         rep.lp_solves = refined.lp_solves;
+        rep.rejected_by_bound = refined.rejected_by_bound;
         stable = refined.stable;
-        stage(fmt::format("refined: C_M {} -> {}, {} iterations, {} accepted",
-                          cm_words(rep.cm_gf_initial), cm_words(rep.cm_gf_final),
-                          refined.iterations, refined.accepted));
+        stage(fmt::format(
+            "refined: C_M {} -> {}, {} iterations, {} accepted; {} whole-model analyses, {} "
+            "candidates rejected on local bounds ({:.2f} s)",
+            cm_words(rep.cm_gf_initial), cm_words(rep.cm_gf_final), refined.iterations,
+            refined.accepted, refined.lp_solves, refined.rejected_by_bound, refined.bound_seconds));
       }
       rep.seconds.emplace_back("refine", since(t));
     }

@@ -8,6 +8,7 @@
 #include "layout/components.h"
 #include "layout/reconfigure.h"
 #include "physics/interior_point.h"
+#include "physics/local_bounds.h"
 
 namespace lego::layout {
 
@@ -22,6 +23,12 @@ using Clock = std::chrono::steady_clock;
 
 // C_M gains smaller than this (grams-force) are within the analysis' accuracy, not progress.
 constexpr double kMeaningfulGain = 1e-4;
+
+// A local bound over more of the model than this costs about what the whole analysis does and
+// may not decide: such candidates go straight to the whole analysis. On the table sample at
+// twice its size (1,162 bricks) bounds over regions of half the model still rejected 99 of 119
+// candidates and cut the refinement from 124 s to 67 s.
+constexpr double kMaxBoundRegionShare = 0.75;
 
 // The bottleneck's bricks by voxel, so it can be found again after an edit is replayed.
 struct Analysis {
@@ -64,6 +71,8 @@ struct Candidate {
   Analysis analysis;
   size_t random_pick = 0;
   bool connected = false;
+  bool ruled_out = false;  // its local upper bound does not beat the current C_M
+  double bound_seconds = 0;
 };
 
 }  // namespace
@@ -72,10 +81,11 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
                            Random& rng, const RefineOptions& options) {
   const auto start = Clock::now();
   RefineResult out;
+  Assembly current_assembly;  // of the layout as it stands, whose analysis `current` is
   Analysis current = [&] {
     const auto t = Clock::now();
-    const LayoutAssembly la = to_assembly(layout, catalog, options.inside_color, options.loads);
-    Analysis a = analyze(la.assembly, layout.depth(), options, size_t(rng.next()));
+    current_assembly = to_assembly(layout, catalog, options.inside_color, options.loads).assembly;
+    Analysis a = analyze(current_assembly, layout.depth(), options, size_t(rng.next()));
     out.lp_seconds += std::chrono::duration<double>(Clock::now() - t).count();
     ++out.lp_solves;
     return a;
@@ -90,6 +100,7 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
                        .accepted = out.accepted,
                        .fail_count = fails,
                        .lp_solves = out.lp_solves,
+                       .rejected_by_bound = out.rejected_by_bound,
                        .cm_gf = cm,
                        .seconds = std::chrono::duration<double>(Clock::now() - start).count()});
   };
@@ -126,25 +137,40 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
       }
       layout.rollback();
     }
-    // Analyse them at the same time, each on its own assembly.
+    // Analyse them at the same time, each on its own assembly; first the local upper bound,
+    // which rules out most candidates for the cost of a small LP.
     const auto t = Clock::now();
     auto analyse = [&](Candidate& c) {
+      if (options.bound_ring >= 0) {
+        const physics::CmBounds bounds =
+            physics::bound_cm_locally(current_assembly, current.result, c.assembly.assembly,
+                                      {.ring = options.bound_ring,
+                                       .max_region_share = kMaxBoundRegionShare,
+                                       .lower = false,
+                                       .stability = options.stability});
+        c.bound_seconds = bounds.seconds;
+        c.ruled_out = bounds.valid && bounds.upper_gf() <= cm + kMeaningfulGain;
+        if (c.ruled_out) return;
+      }
       c.analysis = analyze(c.assembly.assembly, layout.depth(), options, c.random_pick);
     };
     std::vector<std::thread> threads;
-    int solved = 0;
     for (size_t c = 1; c < round.size(); ++c)
-      if (round[c].connected) {
-        threads.emplace_back(analyse, std::ref(round[c]));
-        ++solved;
-      }
-    if (round[0].connected) {
-      analyse(round[0]);
-      ++solved;
-    }
+      if (round[c].connected) threads.emplace_back(analyse, std::ref(round[c]));
+    if (round[0].connected) analyse(round[0]);
     for (auto& th : threads) th.join();
     out.lp_seconds += std::chrono::duration<double>(Clock::now() - t).count();
-    out.lp_solves += solved;
+    for (Candidate& c : round) {
+      if (!c.connected) continue;
+      out.bound_seconds += c.bound_seconds;
+      // A ruled-out candidate counts as not connected from here on: it cannot be chosen.
+      if (c.ruled_out) {
+        c.connected = false;
+        ++out.rejected_by_bound;
+      } else {
+        ++out.lp_solves;
+      }
+    }
     // The best candidate that beats the current layout by more than the analysis' accuracy
     // (C_M to 1e-6 relative; smaller gains are noise); the earliest among those within that
     // accuracy of the best, so last-bit differences never choose.
@@ -164,6 +190,7 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
       layout.apply(round[size_t(best)].edit);
       layout.commit();
       current = std::move(round[size_t(best)].analysis);
+      current_assembly = std::move(round[size_t(best)].assembly.assembly);
       cm = best_cm;
       fails = 0;
       ++out.accepted;

@@ -13,7 +13,7 @@
 namespace lego::layout {
 
 struct RefineProgress {
-  int iteration = 0, accepted = 0, fail_count = 0, lp_solves = 0;
+  int iteration = 0, accepted = 0, fail_count = 0, lp_solves = 0, rejected_by_bound = 0;
   double cm_gf = 0;  // of the current layout (-inf when no equilibrium)
   double seconds = 0;
 };
@@ -29,6 +29,13 @@ struct RefineOptions {
   // current C_M is kept. 1 is the paper's sequential loop. The result depends on this number,
   // never on thread timing.
   int candidates_per_round = 2;
+  // Before a candidate gets the whole model's analysis, an upper bound on its C_M from the
+  // reconfigured bricks, those sharing a force with them and this many more rings of contacts
+  // (physics/local_bounds.h): a candidate that cannot beat the current C_M is rejected on it,
+  // which leaves the refinement's course as it was. Negative: never. Measured on the table
+  // sample at twice its size, ring 0 rejected 99 of 119 candidates in 74 s of bounds, ring 1
+  // 97 in 91 s, ring 2 98 in 137 s.
+  int bound_ring = 0;
   physics::StabilityOptions stability;
   Loads loads;
   int inside_color = 72;
@@ -42,6 +49,8 @@ struct RefineResult {
   bool out_of_time = false;                 // max_seconds ran out
   int iterations = 0, accepted = 0, lp_solves = 0;
   int rejected_disconnected = 0;  // candidates discarded for not being one component
+  int rejected_by_bound = 0;      // candidates whose local upper bound could not beat C_M
+  double bound_seconds = 0;       // spent computing local bounds
   double lp_seconds = 0;          // spent in the stability analysis
 };
 

@@ -117,7 +117,7 @@ EquilibriumSystem region_system(const EquilibriumSystem& sys, const std::vector<
 }  // namespace
 
 CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_result,
-                          const Assembly& after, int ring, const StabilityOptions& options) {
+                          const Assembly& after, const LocalBoundOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   CmBounds out;
   auto finish = [&]() -> CmBounds {
@@ -129,7 +129,7 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
       before_result.forces.size() != size_t(was.columns()) ||
       before_result.row_duals.size() != size_t(was.rows))
     return finish();
-  const ContactGraph graph = ContactGraph::build(after, options.ground);
+  const ContactGraph graph = ContactGraph::build(after, options.stability.ground);
   if (!analyze_connectivity(int(after.bricks.size()), graph).all_grounded()) return finish();
   const EquilibriumSystem sys = build_equilibrium(after, graph);
   const int n_after = int(after.bricks.size()), n_before = int(before.bricks.size());
@@ -163,7 +163,7 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
     if (std::any_of(bricks.begin(), bricks.end(), [&](int b) { return matched_by[size_t(b)] < 0; }))
       for (int b : bricks) seed(matched_by[size_t(b)]);
   }
-  for (int level = 1; level <= 1 + ring && !frontier.empty(); ++level) {
+  for (int level = 1; level <= 1 + options.ring && !frontier.empty(); ++level) {
     std::vector<int> next;
     for (int b : frontier)
       for (int j : columns_of[size_t(b)])
@@ -171,6 +171,9 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
           if (depth[size_t(other)] < 0) depth[size_t(other)] = level, next.push_back(other);
     frontier = std::move(next);
   }
+  int region_bricks = 0;
+  for (int b = 0; b < n_after; ++b) region_bricks += depth[size_t(b)] >= 0;
+  if (region_bricks > options.max_region_share * n_after) return finish();
   std::vector<int> region_row(size_t(sys.rows), -1);
   int region_rows = 0;
   for (int b = 0; b < n_after; ++b)
@@ -235,12 +238,12 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
     for (int j : *set)
       if (sys.kind[size_t(j)] == ForceKind::Friction)
         fixed_friction = std::max(fixed_friction, force[size_t(j)]);
-  {
+  if (options.lower) {
     const EquilibriumSystem local =
         region_system(sys, region_row, region_rows, region_only, boundary, force);
     std::string message;
     const LpSolution s = solve_supports_boxed([&](double bound) { return scaled_lp(local, bound); },
-                                              options, message);
+                                              options.stability, message, nullptr, false);
     if (s.outcome == LpOutcome::Optimal) {
       const double w = s.x.back();
       // Below w = 1e-3 (friction over 1000 T) the solve cannot tell "little" from "none".
@@ -256,7 +259,7 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
   // (c_j + a_jᵀy)·x_j wherever that is finite; with y fixed outside the region this is the
   // region's LP with every column touching the region priced by the outside duals, plus the
   // fixed part of the columns outside it.
-  {
+  if (options.upper) {
     std::vector<double> y_outside(size_t(sys.rows), 0.0);
     for (int b = 0; b < n_after; ++b)
       if (depth[size_t(b)] < 0)
@@ -290,7 +293,7 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
           lp.objective.back() = -w_gain;
           return lp;
         },
-        options, message);
+        options.stability, message, nullptr, false);
     if (s.outcome == LpOutcome::Optimal && s.x.back() < kMaxScale * (1 - 1e-6)) {
       const double w_upper = -s.objective + constant;
       out.upper =

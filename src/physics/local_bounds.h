@@ -29,11 +29,21 @@ struct CmBounds {
   double upper_gf() const { return upper / kGravity; }
 };
 
-// `before_result` must be analyze_stability(before, options) (Solved, with its forces and duals).
-// Bricks of `after` equal in place, size and height to a brick of `before` are unchanged; the
-// region is the changed bricks, every brick that shares a force with one, and `ring` more layers
-// of neighbours. Loads outside the region must be the same in both.
+struct LocalBoundOptions {
+  // The region: the changed bricks, every brick that shares a force with one, and `ring` more
+  // layers of neighbours.
+  int ring = 2;
+  // Past this share of the model a region's LP costs nearly what the whole model's does, and
+  // the bounds are left open.
+  double max_region_share = 1.0;
+  bool lower = true, upper = true;  // which bounds to compute (the other stays open)
+  StabilityOptions stability;       // how the region's LPs are solved
+};
+
+// `before_result` must be analyze_stability(before) (Solved, with its forces and duals). Bricks of
+// `after` equal in place, size and height to a brick of `before` are unchanged. Loads outside the
+// region must be the same in both.
 CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_result,
-                          const Assembly& after, int ring, const StabilityOptions& options = {});
+                          const Assembly& after, const LocalBoundOptions& options = {});
 
 }  // namespace lego::physics

@@ -85,7 +85,8 @@ LpData scaled_lp(const EquilibriumSystem& sys, double support_bound) {
 }
 
 LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
-                                const StabilityOptions& o, std::string& message, LpStats* stats) {
+                                const StabilityOptions& o, std::string& message, LpStats* stats,
+                                bool simplex_fallback) {
   // Support forces are free in the model. Bounding them lets the barrier converge in tens of
   // iterations instead of hundreds (the simplex is slower with them bounded, so it keeps them
   // free); a bound the solution touches is raised and the LP solved again.
@@ -109,7 +110,7 @@ LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
   const bool interior = o.method == LpMethod::InteriorPoint || o.method == LpMethod::Barrier ||
                         o.method == LpMethod::BarrierNoCrossover;
   LpSolution s = attempt(o.method, interior ? o.support_bound : kInfinity);
-  if (o.method == LpMethod::InteriorPoint && s.outcome != LpOutcome::Optimal) {
+  if (simplex_fallback && o.method == LpMethod::InteriorPoint && s.outcome != LpOutcome::Optimal) {
     // Exact all the same: Clp's dual simplex takes over, and the result says so.
     message = s.message + "; solved by Clp's dual simplex instead";
     s = attempt(LpMethod::DualSimplex, kInfinity);

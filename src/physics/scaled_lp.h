@@ -28,9 +28,10 @@ LpData scaled_lp(const EquilibriumSystem& sys, double support_bound);
 // bounds are exactly ±bound), by options.method: interior methods start at
 // options.support_bound and widen the box by 1000 while the answer touches it, so the answer is
 // that of the free problem; our interior point method hands over to Clp's dual simplex when it
-// fails, and `message` says so. Row duals follow Clp's sign: reduced cost = c − Aᵀy.
+// fails (unless `simplex_fallback` is false: then the failure is the answer), and `message` says
+// so. Row duals follow Clp's sign: reduced cost = c − Aᵀy.
 LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
                                 const StabilityOptions& options, std::string& message,
-                                LpStats* stats = nullptr);
+                                LpStats* stats = nullptr, bool simplex_fallback = true);
 
 }  // namespace lego::physics

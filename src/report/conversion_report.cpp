@@ -29,6 +29,7 @@ nlohmann::json to_json(const ConversionReport& r) {
   j["iterations"] = r.iterations;
   j["accepted"] = r.accepted;
   j["lp_solves"] = r.lp_solves;
+  j["rejected_by_bound"] = r.rejected_by_bound;
   nlohmann::json seconds = nlohmann::json::object();
   for (auto& [stage, s] : r.seconds) seconds[stage] = s;
   j["seconds"] = seconds;

@@ -275,6 +275,40 @@ TEST(Legolize, TheRefinementDoesNotDependOnHowManyThreadsTheBlasUses) {
   EXPECT_TRUE(run("1", "one.ldr") == run("2", "two.ldr"));
 }
 
+TEST(Legolize, LocalBoundsLeaveTheRefinementAsItWas) {
+  // A candidate is rejected on its local upper bound only when the whole analysis would reject
+  // it too: the same file, with fewer whole-model analyses.
+  auto run = [&](bool bounds, const std::string& name) {
+    auto out = scratch(name + ".ldr"), report = scratch(name + ".json");
+    std::vector<std::string> args{sample("table.obj").string(),
+                                  "--scale",
+                                  "1",
+                                  "--load-top",
+                                  "300",
+                                  "--quiet",
+                                  "-o",
+                                  out.string(),
+                                  "--report",
+                                  report.string()};
+    if (!bounds) args.push_back("--no-local-bounds");
+    auto r = run_tool("legolize", args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream in(out);
+    std::string text(std::istreambuf_iterator<char>(in), {});
+    return std::pair{text.substr(text.find('\n', text.find("0 Name:"))), read_json(report)};
+  };
+  const auto [bounded, with] = run(true, "bounded");
+  const auto [whole, without] = run(false, "whole");
+  EXPECT_TRUE(bounded == whole);
+  EXPECT_EQ(with["iterations"], without["iterations"]);
+  EXPECT_EQ(without["rejected_by_bound"].get<int>(), 0);
+  EXPECT_GT(with["rejected_by_bound"].get<int>(), 0);
+  EXPECT_EQ(with["lp_solves"].get<int>() + with["rejected_by_bound"].get<int>(),
+            without["lp_solves"].get<int>());
+  std::cout << "table: " << with["rejected_by_bound"] << " of " << without["lp_solves"]
+            << " analyses replaced by local bounds\n";
+}
+
 TEST(Legolize, BrickLinkListMapsColorsAndRefusesUnmappedOnes) {
   auto out = scratch("globe.ldr"), xml = scratch("globe.xml");
   auto run = run_tool("legolize", {sample("globe.ply").string(), "--height", "10", "-o",
