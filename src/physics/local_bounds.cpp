@@ -171,9 +171,6 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
           if (depth[size_t(other)] < 0) depth[size_t(other)] = level, next.push_back(other);
     frontier = std::move(next);
   }
-  int region_bricks = 0;
-  for (int b = 0; b < n_after; ++b) region_bricks += depth[size_t(b)] >= 0;
-  if (region_bricks > options.max_region_share * n_after) return finish();
   std::vector<int> region_row(size_t(sys.rows), -1);
   int region_rows = 0;
   for (int b = 0; b < n_after; ++b)
@@ -181,6 +178,7 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
       ++out.region_bricks;
       for (int e = 0; e < 6; ++e) region_row[size_t(6 * b + e)] = region_rows++;
     }
+  if (out.region_bricks > options.max_region_share * n_after) return finish();
 
   // Outside the region every brick must have the same forces on it as before: the same columns
   // (mapped by key, with equal coefficients) and the same loads.
