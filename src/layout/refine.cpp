@@ -83,10 +83,8 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
   RefineResult out;
   Assembly current_assembly;  // of the layout as it stands, whose analysis `current` is
   Analysis current = [&] {
-    const auto t = Clock::now();
     current_assembly = to_assembly(layout, catalog, options.inside_color, options.loads).assembly;
     Analysis a = analyze(current_assembly, layout.depth(), options, size_t(rng.next()));
-    out.lp_seconds += std::chrono::duration<double>(Clock::now() - t).count();
     ++out.lp_solves;
     return a;
   }();
@@ -100,7 +98,6 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
                        .accepted = out.accepted,
                        .fail_count = fails,
                        .lp_solves = out.lp_solves,
-                       .rejected_by_bound = out.rejected_by_bound,
                        .cm_gf = cm,
                        .seconds = std::chrono::duration<double>(Clock::now() - start).count()});
   };
@@ -139,7 +136,6 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
     }
     // Analyse them at the same time, each on its own assembly; first the local upper bound,
     // which rules out most candidates for the cost of a small LP.
-    const auto t = Clock::now();
     auto analyse = [&](Candidate& c) {
       if (options.bound_ring >= 0) {
         const physics::CmBounds bounds =
@@ -159,7 +155,6 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
       if (round[c].connected) threads.emplace_back(analyse, std::ref(round[c]));
     if (round[0].connected) analyse(round[0]);
     for (auto& th : threads) th.join();
-    out.lp_seconds += std::chrono::duration<double>(Clock::now() - t).count();
     for (Candidate& c : round) {
       if (!c.connected) continue;
       out.bound_seconds += c.bound_seconds;

@@ -13,7 +13,7 @@
 namespace lego::layout {
 
 struct RefineProgress {
-  int iteration = 0, accepted = 0, fail_count = 0, lp_solves = 0, rejected_by_bound = 0;
+  int iteration = 0, accepted = 0, fail_count = 0, lp_solves = 0;
   double cm_gf = 0;  // of the current layout (-inf when no equilibrium)
   double seconds = 0;
 };
@@ -51,7 +51,6 @@ struct RefineResult {
   int rejected_disconnected = 0;  // candidates discarded for not being one component
   int rejected_by_bound = 0;      // candidates whose local upper bound could not beat C_M
   double bound_seconds = 0;       // spent computing local bounds
-  double lp_seconds = 0;          // spent in the stability analysis
 };
 
 // C_M / g as the refinement compares it: -inf when the analysis gives no number.

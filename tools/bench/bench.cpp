@@ -236,14 +236,14 @@ int main(int argc, char** argv) {
     int repeat = 0;  // 0: --repeat
   };
   std::vector<Mesh> meshes{
-      {"sample-table+300g", source / "samples" / "table.obj", {.mm_per_unit = 1}, {300}},
-      {"sample-globe-h16", source / "samples" / "globe.ply", {.height_bricks = 16}},
-      {"sample-crate-h8", source / "samples" / "crate.obj", {.height_bricks = 8}},
+      {"sample-table+300g", source / "samples" / "table.obj", {.mm_per_unit = 1}, {300}, 0},
+      {"sample-globe-h16", source / "samples" / "globe.ply", {.height_bricks = 16}, {}, 0},
+      {"sample-crate-h8", source / "samples" / "crate.obj", {.height_bricks = 8}, {}, 0},
   };
   if (fs::exists(bunny)) {
     // 30 bricks high stands in for the paper's TAILS (32 x 30 x 46 voxels, 1,642 bricks).
     for (int h : quick ? std::vector<int>{20} : std::vector<int>{20, 30, 40, 60})
-      meshes.push_back({fmt::format("bunny-h{}", h), bunny, {.height_bricks = h}});
+      meshes.push_back({fmt::format("bunny-h{}", h), bunny, {.height_bricks = h}, {}, 0});
   }
   if (!quick) {
     // A refinement of a thousand bricks, with and without the local bounds, in one run: the
