@@ -5,6 +5,7 @@
 // A·Θ·Aᵀ (they would make it dense) and brought back by the Sherman-Morrison-Woodbury formula and
 // conjugate gradients. CHOLMOD factors them. Rows that depend on others are found and dropped
 // first, and checked at the end.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,9 @@ struct IpmOptions {
   // of w's relative error, so 1e-8 keeps C_M well inside the 1e-6 the analysis promises.
   double tolerance = 1e-8;
   int max_iterations = 120;
+  // What the duality gap is measured against, given the primal objective: 1 + |objective| when
+  // empty. A caller that needs less of the objective than its own relative accuracy says so here.
+  std::function<double(double objective)> gap_scale;
 };
 
 IpmResult solve_interior_point(const IpmProblem& problem, const IpmOptions& options = {});

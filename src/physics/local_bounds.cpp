@@ -240,8 +240,9 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
     const EquilibriumSystem local =
         region_system(sys, region_row, region_rows, region_only, boundary, force);
     std::string message;
-    const LpSolution s = solve_supports_boxed([&](double bound) { return scaled_lp(local, bound); },
-                                              options.stability, message, nullptr, false);
+    const LpSolution s =
+        solve_supports_boxed([&](double bound) { return scaled_lp(local, bound); },
+                             options.stability, message, nullptr, false, scale_objective_options());
     if (s.outcome == LpOutcome::Optimal) {
       const double w = s.x.back();
       // Below w = 1e-3 (friction over 1000 T) the solve cannot tell "little" from "none".

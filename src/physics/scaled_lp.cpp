@@ -1,9 +1,8 @@
 #include "physics/scaled_lp.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include "physics/interior_point.h"
 
 namespace lego::physics {
 namespace {
@@ -11,7 +10,7 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Our interior point method on an LP whose columns are all sparse but a few.
-LpSolution solve_interior(const LpData& lp) {
+LpSolution solve_interior(const LpData& lp, const IpmOptions& options) {
   IpmProblem p;
   p.rows = lp.rows;
   p.start = lp.start;
@@ -21,7 +20,7 @@ LpSolution solve_interior(const LpData& lp) {
   p.b = lp.row_lower;
   p.lower = lp.col_lower;
   p.upper = lp.col_upper;
-  IpmResult r = solve_interior_point(p);
+  IpmResult r = solve_interior_point(p, options);
   LpSolution s;
   s.iterations = r.iterations;
   s.message = r.message;
@@ -84,9 +83,24 @@ LpData scaled_lp(const EquilibriumSystem& sys, double support_bound) {
   return lp;
 }
 
+IpmOptions scale_objective_options() {
+  IpmOptions options;
+  // C_M = T·(1 − 1/w): a gap g on w moves C_M by about T·g/w², which is g/(w·(w − 1)) of C_M.
+  // Measuring the gap against w·(w − 1) keeps C_M's relative error at the tolerance; stiff models
+  // have w in the hundreds, and there the usual 1 + w asked for a gap a hundred times finer than
+  // C_M needs: the last iterations, on a nearly singular normal matrix, could lose an answer
+  // already reached (the crate sample, w = 551). At most ten times the usual measure, so w itself
+  // stays within 1e-7 and the cap kMaxScale is still recognised.
+  options.gap_scale = [](double objective) {
+    const double w = std::abs(objective), usual = 1 + w;
+    return std::clamp(w * (w - 1), usual, 10 * usual);
+  };
+  return options;
+}
+
 LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
                                 const StabilityOptions& o, std::string& message, LpStats* stats,
-                                bool simplex_fallback) {
+                                bool simplex_fallback, const IpmOptions& ipm) {
   // Support forces are free in the model. Bounding them lets the barrier converge in tens of
   // iterations instead of hundreds (the simplex is slower with them bounded, so it keeps them
   // free); a bound the solution touches is raised and the LP solved again.
@@ -100,7 +114,7 @@ LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
         stats->nonzeros = int(lp.index.size());
       }
       s = method == LpMethod::InteriorPoint
-              ? solve_interior(lp)
+              ? solve_interior(lp, ipm)
               : solve_lp(lp, method, o.presolve, o.scaling, o.max_seconds);
       if (stats) stats->iterations += s.iterations;
       if (s.outcome != LpOutcome::Optimal || std::isinf(bound) || !touches_box(lp, s, bound))

@@ -8,6 +8,7 @@
 
 #include "physics/clp_lp.h"
 #include "physics/force_model.h"
+#include "physics/interior_point.h"
 #include "physics/stability.h"
 
 namespace lego::physics {
@@ -24,14 +25,20 @@ LpData equilibrium_lp(const EquilibriumSystem& sys, double friction_upper, doubl
 // sys.columns() is w, the one dense column.
 LpData scaled_lp(const EquilibriumSystem& sys, double support_bound);
 
+// Options of our interior point method for an LP whose objective is −w, w the scale of the
+// scaled form: the duality gap is judged by what it does to C_M = T·(1 − 1/w).
+IpmOptions scale_objective_options();
+
 // Solves the LP that `make(bound)` builds with its support columns boxed at ±bound (those whose
 // bounds are exactly ±bound), by options.method: interior methods start at
 // options.support_bound and widen the box by 1000 while the answer touches it, so the answer is
 // that of the free problem; our interior point method hands over to Clp's dual simplex when it
 // fails (unless `simplex_fallback` is false: then the failure is the answer), and `message` says
-// so. Row duals follow Clp's sign: reduced cost = c − Aᵀy.
+// so. Row duals follow Clp's sign: reduced cost = c − Aᵀy. `ipm` goes to our interior point
+// method.
 LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
                                 const StabilityOptions& options, std::string& message,
-                                LpStats* stats = nullptr, bool simplex_fallback = true);
+                                LpStats* stats = nullptr, bool simplex_fallback = true,
+                                const IpmOptions& ipm = {});
 
 }  // namespace lego::physics

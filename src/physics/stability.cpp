@@ -58,7 +58,7 @@ void set_failure(StabilityResult& r, const LpSolution& s) {
 
 void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, StabilityResult& r) {
   LpSolution s = solve_supports_boxed([&](double bound) { return scaled_lp(sys, bound); }, o,
-                                      r.message, &r.stats);
+                                      r.message, &r.stats, true, scale_objective_options());
   if (s.outcome != LpOutcome::Optimal) return set_failure(r, s);  // w = 0 is always feasible
   const double w = s.x[sys.columns()];
   // At the cap, within the solver's tolerance: the difference from T is at most T/kMaxScale.
