@@ -4,6 +4,7 @@
 #include <random>
 
 #include "physics/builders.h"
+#include "physics/scaled_lp.h"
 #include "physics/stability.h"
 
 namespace lego::physics {
@@ -286,6 +287,53 @@ TEST(StabilityProperty, InteriorPointAgreesWithClpSimplex) {
     ASSERT_FALSE(ipm.weakest.empty());
     EXPECT_EQ(ipm.weakest[0].contact, simplex.weakest[0].contact);
   }
+}
+
+// A wall of 2x4 bricks in running bond with a ledge of one stud at the top: stiff, so w (T over
+// the largest friction force) is in the hundreds. Such models ended the interior point method
+// on a nearly singular normal matrix (the crate sample failed at some shifts before the gap was
+// judged by C_M, scale_objective_options); here it must converge by itself and agree with Clp.
+Assembly stiff_wall(int layers) {
+  Assembly a;
+  for (int layer = 0; layer < layers; ++layer) {
+    const int shift = layer % 2 == 0 ? 0 : 2;
+    for (int k = 0; k < 4; ++k) add(a, "3001", shift + 4 * k, kBrick * layer, 0);
+  }
+  const int end = (layers - 1) % 2 == 0 ? 16 : 18;
+  add(a, "3001", end - 3, kBrick * layers, 0);  // the ledge: one stud past the wall's end
+  return a;
+}
+
+TEST(StabilityProperty, StiffModelsAgreeWithClpSimplex) {
+  for (int layers : {4, 8, 16}) {
+    const Assembly a = stiff_wall(layers);
+    auto ipm = analyze_stability(a, {.method = LpMethod::InteriorPoint});
+    auto simplex = analyze_stability(a, {.method = LpMethod::DualSimplex});
+    ASSERT_EQ(ipm.status, StabilityStatus::Solved) << layers;
+    EXPECT_EQ(ipm.message, "") << "fell back";
+    const double w = kT / (kT - simplex.cm_gf());
+    EXPECT_GT(w, 100) << "not stiff enough to test the gap measure: " << layers;
+    EXPECT_NEAR(ipm.cm, simplex.cm, 1e-6 * std::abs(simplex.cm)) << layers;
+    ASSERT_FALSE(ipm.weakest.empty());
+    EXPECT_EQ(ipm.weakest[0].contact, simplex.weakest[0].contact) << layers;
+  }
+}
+
+// The gap measure of the scaled LP: never finer than the usual 1 + w; C_M = T·(1 − 1/w), which
+// a gap g on w moves by g/(w·(w − 1)) of itself, keeps the tolerance wherever the measure is
+// looser than usual; and w itself stays within ten times it (so its cap is recognised).
+TEST(ScaledLp, GapMeasuredByItsEffectOnCm) {
+  const IpmOptions options = scale_objective_options();
+  ASSERT_TRUE(options.gap_scale);
+  for (double w : {0.01, 0.5, 1.0, 1.5, 2.0, 3.0, 10.0, 100.0, 551.0, 1e4, 1e6}) {
+    const double scale = options.gap_scale(-w), gap = options.tolerance * scale;
+    EXPECT_GE(scale, 1 + w) << w;
+    EXPECT_LE(gap / w, 10 * options.tolerance * (1 + 1 / w) * (1 + 1e-12)) << w;
+    if (scale > 1 + w) {
+      EXPECT_LE(gap / (w * (w - 1)), options.tolerance * (1 + 1e-12)) << w;
+    }
+  }
+  EXPECT_GT(options.gap_scale(-551), 552) << "stiff models stop when C_M is exact";
 }
 
 TEST(ContactGraph, FrictionPointsFollowTheCavityShape) {
