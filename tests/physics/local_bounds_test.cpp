@@ -95,7 +95,7 @@ TEST(LocalBounds, BoundTheExactCm) {
     if (exact.status == StabilityStatus::Floating) continue;  // a joint through both courses
     ASSERT_EQ(exact.status, StabilityStatus::Solved);
     for (int ring : {0, 1, 2, 3, 40}) {
-      const CmBounds b = bound_cm_locally(wall, result, after, {.ring = ring});
+      const CmBounds b = bound_cm_locally(wall, result, after, {.ring = ring, .stability = {}});
       SCOPED_TRACE(testing::Message() << "layer " << change.layer << " x " << change.x
                                       << (change.merge ? " merged" : " split") << " ring " << ring);
       ASSERT_TRUE(b.valid);
@@ -130,7 +130,8 @@ TEST(LocalBounds, OpenWithoutTheAnalysedForces) {
   const Assembly wall = loaded_beam(4, 0.05);
   StabilityResult result = analyze_stability(wall);
   result.forces.clear();
-  const CmBounds b = bound_cm_locally(wall, result, rejoined(wall, 4, 4, true), {.ring = 1});
+  const CmBounds b =
+      bound_cm_locally(wall, result, rejoined(wall, 4, 4, true), {.ring = 1, .stability = {}});
   EXPECT_FALSE(b.valid);
   EXPECT_EQ(b.lower, -std::numeric_limits<double>::infinity());
   EXPECT_EQ(b.upper, std::numeric_limits<double>::infinity());
@@ -142,7 +143,7 @@ TEST(LocalBounds, OpenWhenTheOutsideChanged) {
   const StabilityResult result = analyze_stability(wall);
   Assembly after = rejoined(wall, 0, 0, true);
   after.loads.front().force_n[1] *= 2;
-  EXPECT_FALSE(bound_cm_locally(wall, result, after, {.ring = 0}).valid);
+  EXPECT_FALSE(bound_cm_locally(wall, result, after, {.ring = 0, .stability = {}}).valid);
 }
 
 }  // namespace
