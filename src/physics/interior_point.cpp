@@ -22,6 +22,15 @@ using SpMat = Eigen::SparseMatrix<double>;
 // The normal matrix's shift, relative to its diagonal (see where it is factored).
 constexpr double kRegularization = 1e-14;
 
+// How far the conjugate gradients solve each Newton direction, relative to its right-hand side.
+// The step taken is the corrector's: to 1e-10, measured against 1e-13 (needed while the shift
+// was 1e-12), the same iterations everywhere and a third fewer CG steps (tower-2000 99 -> 62,
+// box-2000 52 -> 32, the crate sample 20 -> 10). The predictor only sets σ and the corrector's
+// second-order term: to 1e-6 it costs half the CG steps (tower-2000 62 -> 34) with the same
+// iterations on the towers, boxes and samples up to 2,000 bricks (box-8000 one more, 25);
+// tower-2000 and box-2000 x0.89.
+constexpr double kCorrectorAccuracy = 1e-10, kPredictorAccuracy = 1e-6;
+
 double max_step(const Vec& v, const Vec& dv) {
   double alpha = 1.0;
   for (Eigen::Index i = 0; i < v.size(); ++i)
@@ -444,13 +453,6 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
         ad = std::min(max_step(zl, dzl),
                       max_step(zu.cwiseProduct(has_up) + (Vec::Ones(n) - has_up), dzu));
       };
-      // The step taken is the corrector's, solved to 1e-10 of its right-hand side: measured
-      // against 1e-13 (needed while the shift was 1e-12), the same iterations everywhere and a
-      // third fewer CG steps (tower-2000 99 -> 62, box-2000 52 -> 32, the crate sample 20 -> 10).
-      // The predictor only sets σ and the corrector's second-order term: to 1e-6 it costs half
-      // the CG steps (tower-2000 62 -> 34) with the same iterations on the towers, boxes and
-      // samples up to 2,000 bricks (box-8000 one more, 25); tower-2000 and box-2000 x0.89.
-      constexpr double kCorrectorAccuracy = 1e-10, kPredictorAccuracy = 1e-6;
       // Predictor: the affine scaling direction.
       Vec dx, dy, dzl, dzu;
       Vec rl = -xl.cwiseProduct(zl), ru = -xu.cwiseProduct(zu).cwiseProduct(has_up);
