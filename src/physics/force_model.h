@@ -28,7 +28,9 @@ struct EquilibriumSystem {
 
   int columns() const { return int(kind.size()); }
   int friction_columns = 0;
-  static int row(int brick, int equation) { return 6 * brick + equation; }
+  static constexpr int kEquations = 6;  // rows per brick
+  static int row(int brick, int equation) { return kEquations * brick + equation; }
+  static int brick_of(int row) { return row / kEquations; }
 };
 
 // Lengths in the equations are in studs (a plate is 0.4 stud): torques need true proportions.

@@ -63,7 +63,7 @@ std::vector<std::vector<int>> bricks_of_columns(const EquilibriumSystem& sys) {
   std::vector<std::vector<int>> out(size_t(sys.columns()));
   for (int j = 0; j < sys.columns(); ++j)
     for (int k = sys.column_start[size_t(j)]; k < sys.column_start[size_t(j) + 1]; ++k) {
-      const int brick = sys.row_index[size_t(k)] / 6;
+      const int brick = EquilibriumSystem::brick_of(sys.row_index[size_t(k)]);
       if (std::find(out[size_t(j)].begin(), out[size_t(j)].end(), brick) == out[size_t(j)].end())
         out[size_t(j)].push_back(brick);
     }
@@ -176,7 +176,8 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
   for (int b = 0; b < n_after; ++b)
     if (depth[size_t(b)] >= 0) {
       ++out.region_bricks;
-      for (int e = 0; e < 6; ++e) region_row[size_t(6 * b + e)] = region_rows++;
+      for (int e = 0; e < EquilibriumSystem::kEquations; ++e)
+        region_row[size_t(EquilibriumSystem::row(b, e))] = region_rows++;
     }
   if (out.region_bricks > options.max_region_share * n_after) return finish();
 
@@ -215,10 +216,11 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
     if (depth[size_t(b)] >= 0) continue;
     const int bb = match[size_t(b)];
     if (columns_after[size_t(b)] != columns_before[size_t(bb)]) return finish();
-    for (int e = 0; e < 6; ++e)
-      if (std::abs(sys.rhs[size_t(6 * b + e)] - was.rhs[size_t(6 * bb + e)]) >
-          1e-9 * (1 + std::abs(was.rhs[size_t(6 * bb + e)])))
-        return finish();
+    for (int e = 0; e < EquilibriumSystem::kEquations; ++e) {
+      const double now = sys.rhs[size_t(EquilibriumSystem::row(b, e))],
+                   then = was.rhs[size_t(EquilibriumSystem::row(bb, e))];
+      if (std::abs(now - then) > 1e-9 * (1 + std::abs(then))) return finish();
+    }
   }
   out.valid = true;
   if (out.region_bricks == 0) {  // the same bricks in the same places, with the same loads
@@ -262,8 +264,9 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
     std::vector<double> y_outside(size_t(sys.rows), 0.0);
     for (int b = 0; b < n_after; ++b)
       if (depth[size_t(b)] < 0)
-        for (int e = 0; e < 6; ++e)
-          y_outside[size_t(6 * b + e)] = before_result.row_duals[size_t(6 * match[size_t(b)] + e)];
+        for (int e = 0; e < EquilibriumSystem::kEquations; ++e)
+          y_outside[size_t(EquilibriumSystem::row(b, e))] =
+              before_result.row_duals[size_t(EquilibriumSystem::row(match[size_t(b)], e))];
     auto priced = [&](int j) {  // a_jᵀy over the rows outside the region
       double sum = 0;
       for (int k = sys.column_start[size_t(j)]; k < sys.column_start[size_t(j) + 1]; ++k)

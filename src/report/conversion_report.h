@@ -26,8 +26,8 @@ struct ConversionReport {
   std::string status_initial, status_final;
   bool stable = false;
   int iterations = 0, accepted = 0, lp_solves = 0;
-  int rejected_by_bound =
-      0;  // candidates rejected on a local upper bound, without a whole-model analysis
+  // Candidates rejected on a local upper bound, without a whole-model analysis.
+  int rejected_by_bound = 0;
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
   std::string bottleneck;                               // words, when not stable
   uint64_t seed = 0;
