@@ -2,12 +2,14 @@
 
 #include <dlfcn.h>
 #include <fmt/format.h>
+#include <malloc.h>
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <mutex>
 
 #include "physics/normal_equations.h"
 
@@ -24,10 +26,12 @@ constexpr double kRegularization = 1e-14;
 // The step taken is the corrector's: to 1e-10, measured against 1e-13 (needed while the shift
 // was 1e-12), the same iterations everywhere and a third fewer CG steps (tower-2000 99 -> 62,
 // box-2000 52 -> 32, the crate sample 20 -> 10). The predictor only sets σ and the corrector's
-// second-order term: to 1e-6 it costs half the CG steps (tower-2000 62 -> 34) with the same
-// iterations on the towers, boxes and samples up to 2,000 bricks (box-8000 one more, 25);
-// tower-2000 and box-2000 x0.89.
-constexpr double kCorrectorAccuracy = 1e-10, kPredictorAccuracy = 1e-6;
+// second-order term: to 1e-6 it cost half the CG steps (tower-2000 62 -> 34) with the same
+// iterations on the towers, boxes and samples up to 2,000 bricks (box-8000 one more, 25). Since
+// the dense column is a product-form update, a first solve often meets 1e-6 without CG, and
+// that coarser predictor cost the globe sample 16 iterations instead of 13; 1e-7 and 1e-8 give
+// 13 (tower-2000 31 and 38 CG steps, box-2000 13 and 21). 1e-8, for the margin.
+constexpr double kCorrectorAccuracy = 1e-10, kPredictorAccuracy = 1e-8;
 
 double max_step(const Vec& v, const Vec& dv) {
   double alpha = 1.0;
@@ -36,9 +40,49 @@ double max_step(const Vec& v, const Vec& dv) {
   return alpha;
 }
 
+// The columns of p on the rows that row_map sends somewhere (−1: left out), renumbered by it:
+// zeros dropped, a row repeated within a column summed.
+SpMat restrict_rows(const IpmProblem& p, const std::vector<int>& row_map, int rows) {
+  std::vector<int> outer{0}, inner;
+  std::vector<double> values;
+  inner.reserve(p.index.size());
+  values.reserve(p.index.size());
+  std::vector<std::pair<int, double>> column;
+  for (int j = 0; j < p.columns(); ++j) {
+    column.clear();
+    for (int k = p.start[j]; k < p.start[j + 1]; ++k)
+      if (p.value[k] != 0 && row_map[p.index[k]] >= 0)
+        column.emplace_back(row_map[p.index[k]], p.value[k]);
+    if (!std::is_sorted(column.begin(), column.end())) std::sort(column.begin(), column.end());
+    for (size_t e = 0; e < column.size(); ++e) {
+      if (e > 0 && column[e].first == column[e - 1].first)
+        values.back() += column[e].second;
+      else
+        inner.push_back(column[e].first), values.push_back(column[e].second);
+    }
+    outer.push_back(int(inner.size()));
+  }
+  return Eigen::Map<const SpMat>(rows, p.columns(), Eigen::Index(inner.size()), outer.data(),
+                                 inner.data(), values.data());
+}
+
+// Each iteration allocates and frees vectors as long as the rows or the columns (hundreds of
+// kilobytes). glibc hands blocks that large back to the kernel when they are freed (as mappings
+// of their own, or by trimming the heap), so every iteration faulted the same pages in again:
+// 52,759 page faults in one box-2000 analysis. Kept in the heap, they are reused.
+void keep_freed_memory() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest
+    mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  });
+}
+
 }  // namespace
 
 IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
+  const auto entry = std::chrono::steady_clock::now();
+  keep_freed_memory();
   IpmResult result;
   const int n = p.columns();
   // Empty rows carry no equation (their b must be zero); rows that repeat others of their block
@@ -56,17 +100,10 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
   int m = 0;
   for (int r = 0; r < p.rows; ++r)
     if (used[r]) used_row_map[r] = m++;
-  std::vector<Eigen::Triplet<double>> used_triplets;
-  for (int j = 0; j < n; ++j)
-    for (int k = p.start[j]; k < p.start[j + 1]; ++k)
-      if (p.value[k] != 0 && used_row_map[p.index[k]] >= 0)
-        used_triplets.emplace_back(used_row_map[p.index[k]], j, p.value[k]);
-  SpMat A_used(m, n);
-  A_used.setFromTriplets(used_triplets.begin(), used_triplets.end());
+  const SpMat A_used = restrict_rows(p, used_row_map, m);
   // Dense columns (the scale w of the stability LP touches every loaded row) stay out of the
-  // factored matrix: A·Θ·Aᵀ would be dense. The factor of the rest preconditions the whole
-  // through the Sherman-Morrison-Woodbury formula, and the conjugate gradients below run on the
-  // true matrix, so the answer is the same.
+  // sparse matrix CHOLMOD factors: A·Θ·Aᵀ would be dense. Each is a rank-one update of that factor
+  // (NormalFactor), and the conjugate gradients below run on the true matrix.
   std::vector<int> dense;
   {
     const double average = double(A_used.nonZeros()) / std::max(n, 1);
@@ -89,28 +126,17 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
   // found properly and dropped (the solution is checked against them at the end).
   enum class Outcome { Done, DependentRows };
   auto attempt = [&](const std::vector<char>& dependent, bool watch_pivots) -> Outcome {
-    std::vector<int> row_map = used_row_map;
-    std::vector<Eigen::Triplet<double>> triplets = used_triplets;
-    int m = m_used;
-    std::vector<int> kept_row(m, -1);
-    int kept = 0;
-    for (int r = 0; r < m; ++r)
-      if (!dependent[r]) kept_row[r] = kept++;
-    triplets.erase(std::remove_if(triplets.begin(), triplets.end(),
-                                  [&](const auto& t) { return dependent[t.row()]; }),
-                   triplets.end());
-    for (auto& t : triplets) t = Eigen::Triplet<double>(kept_row[t.row()], t.col(), t.value());
+    std::vector<int> row_map(size_t(p.rows), -1);
+    int m = 0;
     for (int r = 0; r < p.rows; ++r)
-      if (row_map[r] >= 0) row_map[r] = kept_row[row_map[r]];
-    m = kept;
-    if (trace)
-      fmt::print(stderr, "rows {}, {} with variables, {} kept\n", p.rows, A_used.rows(), kept);
-    SpMat A(m, n);
-    A.setFromTriplets(triplets.begin(), triplets.end());
+      if (used_row_map[r] >= 0 && !dependent[used_row_map[r]]) row_map[r] = m++;
+    if (trace) fmt::print(stderr, "rows {}, {} with variables, {} kept\n", p.rows, m_used, m);
+    const SpMat A = m == m_used ? A_used : restrict_rows(p, row_map, m);
     SpMat At = A.transpose();
     const SpMat A_abs = A.cwiseAbs();
     const SpMat A_sparse = without_dense(A);
-    NormalMatrix normal(A_sparse);
+    const std::vector<int> order = fill_reducing_order(A_sparse);
+    NormalMatrix normal(A_sparse, order);
     Eigen::MatrixXd A_dense(m, Eigen::Index(dense.size()));
     for (size_t k = 0; k < dense.size(); ++k) A_dense.col(Eigen::Index(k)) = A.col(dense[k]);
     Vec b(m), c = Eigen::Map<const Vec>(p.c.data(), n);
@@ -140,7 +166,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
     // CHOLMOD's supernodal factorization: measured faster than Eigen's simplicial one at every size
     // from 500 bricks up (0.67 s against 0.92 s for a whole solve at 516 bricks, 1.5 s against 3.0
     // s at 1,000); the same at 200.
-    NormalFactor factor;
+    NormalFactor factor(order);
     bool analysed = false;
     const double b_norm = 1 + b.lpNorm<Eigen::Infinity>(), c_norm = 1 + c.lpNorm<Eigen::Infinity>();
     const int bounds = n + int(has_up.sum());
@@ -150,6 +176,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
     auto since = [](std::chrono::steady_clock::time_point t) {
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
+    if (trace) fmt::print(stderr, "setup {:.3f}s\n", since(entry));
     for (int it = 0; it < options.max_iterations; ++it) {
       result.iterations = it;
       Vec rp = b - A * x;
@@ -188,12 +215,12 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
       Vec theta(n);
       for (int j = 0; j < n; ++j)
         theta[j] = 1.0 / (zl[j] / xl[j] + (has_up[j] ? zu[j] / xu[j] : 0.0));
-      auto t0 = std::chrono::steady_clock::now();
       if (!analysed) {
+        const auto t = std::chrono::steady_clock::now();
         factor.analyse(normal.form(theta, 0.0));
         analysed = true;
+        if (trace) fmt::print(stderr, "    analyse {:.3f}s\n", since(t));
       }
-      auto t1 = std::chrono::steady_clock::now();
       // The equations are often dependent (a brick held at one point has a torque row that
       // repeats its force rows), so A·Θ·Aᵀ is only semi-definite. Regularize each row relative to
       // its own diagonal (the diagonal spans many orders of magnitude near the optimum); the
@@ -205,9 +232,15 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
       // the gap judged as the scaled LP asks (scale_objective_options); without it the crate
       // sample failed at 1e-13 and 1e-15.
       double epsilon = kRegularization;
+      Vec theta_dense(Eigen::Index(dense.size()));
+      for (size_t k = 0; k < dense.size(); ++k) theta_dense[Eigen::Index(k)] = theta[dense[k]];
       for (;; epsilon *= 100) {
         ++factorizations;
-        if (factor.factorize(normal.form(theta, epsilon))) break;
+        const auto t = std::chrono::steady_clock::now();
+        const bool factored = factor.factorize(normal.form(theta, epsilon), A_dense, theta_dense);
+        factor_seconds += since(t);
+        if (trace) fmt::print(stderr, "    form and factor {:.3f}s\n", since(t));
+        if (factored) break;
         if (epsilon > 1e-5) {
           result.message =
               fmt::format("the normal equations could not be factored at iteration {}", it);
@@ -222,40 +255,16 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
         for (Eigen::Index r = 0; r < m; ++r)
           if (pivots[r] < 1e-10 * M.coeff(r, r)) return Outcome::DependentRows;
       }
-      auto t2 = std::chrono::steady_clock::now();
-      factor_seconds += since(t0);
-      if (trace)
-        fmt::print(stderr, "    analyse {:.3f}s form and factor {:.3f}s\n",
-                   std::chrono::duration<double>(t1 - t0).count(),
-                   std::chrono::duration<double>(t2 - t1).count());
-      const auto solves_start = std::chrono::steady_clock::now();
-      // The dense columns' part, for the Woodbury formula: (P + D·Θ_D·Dᵀ)⁻¹ r =
-      // P⁻¹r − U·(Θ_D⁻¹ + Dᵀ·U)⁻¹·Dᵀ·P⁻¹r with U = P⁻¹·D.
-      Eigen::MatrixXd U(m, Eigen::Index(dense.size()));
-      Eigen::LDLT<Eigen::MatrixXd> small;
-      if (!dense.empty()) {
-        for (size_t k = 0; k < dense.size(); ++k)
-          U.col(Eigen::Index(k)) = factor.solve(Vec(A_dense.col(Eigen::Index(k))));
-        Eigen::MatrixXd S = A_dense.transpose() * U;
-        for (size_t k = 0; k < dense.size(); ++k)
-          S(Eigen::Index(k), Eigen::Index(k)) += 1 / theta[dense[k]];
-        small.compute(S);
-      }
-      auto precondition = [&](const Vec& r) {
-        Vec v = factor.solve(r);
-        if (!dense.empty()) v -= U * small.solve(A_dense.transpose() * v);
-        return v;
-      };
       // Conjugate gradients on the unregularized matrix, preconditioned by the regularized factor:
       // near the optimum a few directions are nearly singular, the factor is poor only there, and
       // CG resolves a few outlying directions in a few steps (plain refinement stalls on them).
       auto solve_normal = [&](const Vec& r, double relative_target) {
         auto apply = [&](const Vec& v) { return Vec(A * theta.cwiseProduct(At * v)); };
-        Vec v = precondition(r);
+        Vec v = factor.solve(r);
         Vec residual = r - apply(v);
         const double target = relative_target * r.norm();
         if (residual.norm() <= target) return v;
-        Vec z = precondition(residual), d = z;
+        Vec z = factor.solve(residual), d = z;
         double rz = residual.dot(z);
         for (int k = 0; k < 50 && residual.norm() > target; ++k) {
           ++cg_steps;
@@ -265,7 +274,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
           const double alpha = rz / curvature;
           v += alpha * d;
           residual -= alpha * Md;
-          z = precondition(residual);
+          z = factor.solve(residual);
           const double rz_next = residual.dot(z);
           d = z + (rz_next / rz) * d;
           rz = rz_next;
@@ -292,6 +301,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
         ad = std::min(max_step(zl, dzl),
                       max_step(zu.cwiseProduct(has_up) + (Vec::Ones(n) - has_up), dzu));
       };
+      const auto solves_start = std::chrono::steady_clock::now();
       // Predictor: the affine scaling direction.
       Vec dx, dy, dzl, dzu;
       Vec rl = -xl.cwiseProduct(zl), ru = -xu.cwiseProduct(zu).cwiseProduct(has_up);

@@ -1,10 +1,10 @@
 #pragma once
 // A primal-dual interior point method (Mehrotra's predictor-corrector) for
 //   min c·x  s.t.  A·x = b,  l ≤ x ≤ u   (every l finite; u may be infinite)
-// with A sparse but for a few dense columns, which are kept out of the factored normal equations
-// A·Θ·Aᵀ (they would make it dense) and brought back by the Sherman-Morrison-Woodbury formula and
-// conjugate gradients. CHOLMOD factors them. Rows that depend on others are found and dropped
-// first, and checked at the end.
+// with A sparse but for a few dense columns, which are kept out of the sparse normal equations
+// A·Θ·Aᵀ (they would make it dense) and brought back as rank-one updates of its factor, with
+// conjugate gradients on the true matrix (normal_equations.h). CHOLMOD factors them. Rows that
+// depend on others are found and dropped first, and checked at the end.
 #include <functional>
 #include <string>
 #include <vector>
