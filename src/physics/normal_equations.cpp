@@ -224,13 +224,17 @@ NormalMatrix::NormalMatrix(const SpMat& A, const std::vector<int>& order)
 const SpMat& NormalMatrix::form(const Vec& theta, double shift) {
   double* value = matrix_.valuePtr();
   std::fill(value, value + matrix_.nonZeros(), 0.0);
-  size_t k = 0;
+  // Column j's pairs (a, b), b ≤ a, in the order the constructor laid out their slots; plain
+  // pointers rather than iterators that compare rows (3x fewer instructions per pair).
+  const int* outer = A_.outerIndexPtr();
+  const double* entries = A_.valuePtr();
+  const int* slot = slots_.data();
   for (Eigen::Index j = 0; j < A_.cols(); ++j) {
-    const double t = theta[j];
-    for (SpMat::InnerIterator p(A_, j); p; ++p) {
-      const double tp = t * p.value();
-      for (SpMat::InnerIterator q(A_, j); q && q.row() <= p.row(); ++q)
-        value[slots_[k++]] += tp * q.value();
+    const double* column = entries + outer[j];
+    const int count = outer[j + 1] - outer[j];
+    for (int a = 0; a < count; ++a) {
+      const double ta = theta[j] * column[a];
+      for (int b = 0; b <= a; ++b) value[*slot++] += ta * column[b];
     }
   }
   for (int d : diagonal_) value[d] *= 1 + shift;
