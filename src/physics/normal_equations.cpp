@@ -80,16 +80,23 @@ class PivotedLLT : public Eigen::CholmodSupernodalLLT<SpMat> {
     return by_row;
   }
 
-  // L⁻¹·r (system CHOLMOD_L) or L⁻ᵀ·r (CHOLMOD_Lt). The factor's order is natural (the matrix
-  // comes in its fill-reducing order), so no permutation goes with them.
-  Vec half_solve(int system, const Vec& r) {
-    Vec copy = r;
-    cholmod_dense b = Eigen::viewAsCholmod(copy);
-    cholmod_dense* x = cholmod_solve(system, m_cholmodFactor, &b, &cholmod());
-    Vec result = Eigen::Map<const Vec>(static_cast<const double*>(x->x), r.size());
-    cholmod_free_dense(&x, &cholmod());
-    return result;
+  ~PivotedLLT() {
+    cholmod_free_dense(&x_, &cholmod());
+    cholmod_free_dense(&y_, &cholmod());
+    cholmod_free_dense(&e_, &cholmod());
   }
+
+  // L⁻¹·r (system CHOLMOD_L) or L⁻ᵀ·r (CHOLMOD_Lt), in place. The factor's order is natural
+  // (the matrix comes in its fill-reducing order), so no permutation goes with them. CHOLMOD's
+  // workspace is kept from one solve to the next rather than allocated and cleared each time.
+  void half_solve(int system, Vec& r) {
+    cholmod_dense b = Eigen::viewAsCholmod(r);
+    cholmod_solve2(system, m_cholmodFactor, &b, nullptr, &x_, nullptr, &y_, &e_, &cholmod());
+    r = Eigen::Map<const Vec>(static_cast<const double*>(x_->x), r.size());
+  }
+
+ private:
+  cholmod_dense *x_ = nullptr, *y_ = nullptr, *e_ = nullptr;
 };
 
 // A's entries grouped by row: row r's are entry[start[r]] to entry[start[r + 1] − 1], positions
@@ -315,7 +322,8 @@ bool NormalFactor::factorize(const SpMat& lower, const Eigen::MatrixXd& dense,
   updates_.clear();
   diagonal_ = Vec::Ones(lower.rows());
   for (Eigen::Index k = 0; k < dense.cols(); ++k) {
-    Vec z = cholmod_->llt.half_solve(CHOLMOD_L, to_factor_order(dense.col(k)));
+    Vec z = to_factor_order(dense.col(k));
+    cholmod_->llt.half_solve(CHOLMOD_L, z);
     for (const RankOne& u : updates_) z = u.solve_lower(z);
     Vec beta(z.size());
     double alpha = dense_theta[k];
@@ -349,11 +357,13 @@ Vec NormalFactor::RankOne::solve_upper(Vec c) const {
 }
 
 Vec NormalFactor::solve(const Vec& r) const {
-  Vec v = cholmod_->llt.half_solve(CHOLMOD_L, to_factor_order(r));
+  Vec v = to_factor_order(r);
+  cholmod_->llt.half_solve(CHOLMOD_L, v);
   for (const RankOne& u : updates_) v = u.solve_lower(std::move(v));
   v = v.cwiseQuotient(diagonal_);
   for (auto u = updates_.rbegin(); u != updates_.rend(); ++u) v = u->solve_upper(std::move(v));
-  return from_factor_order(cholmod_->llt.half_solve(CHOLMOD_Lt, v));
+  cholmod_->llt.half_solve(CHOLMOD_Lt, v);
+  return from_factor_order(v);
 }
 
 Vec NormalFactor::pivots() const {
