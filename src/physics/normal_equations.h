@@ -1,6 +1,7 @@
 #pragma once
-// The linear algebra under the interior point method: the normal matrix A·Θ·Aᵀ on a pattern
-// fixed once, CHOLMOD's factor of it, and the rows of A that depend on others. Internal to
+// The linear algebra under the interior point method: an order for the normal matrix A·Θ·Aᵀ,
+// the matrix formed in it on a pattern fixed once, CHOLMOD's factor of it with the dense columns
+// as rank-one updates, and the rows of A that depend on others. Internal to
 // physics (it exposes Eigen types); interior_point.h is the interface.
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
@@ -11,8 +12,8 @@ namespace lego::physics {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major, sorted rows in each column
 
-// An order of A's rows for factoring A·Θ·Aᵀ: METIS's nested dissection of its pattern,
-// postordered. Row order[k] of A is row k of the matrix factored.
+// An order of A's rows for factoring A·Θ·Aᵀ, postordered: minimum degree (AMD) where its factor
+// stays narrow, else METIS's nested dissection. Row order[k] of A is row k of the matrix factored.
 std::vector<int> fill_reducing_order(const SparseMatrix& A);
 
 // The lower triangle of A·Θ·Aᵀ, rows and columns in a fill-reducing order, on a pattern fixed
