@@ -40,30 +40,9 @@ double max_step(const Vec& v, const Vec& dv) {
   return alpha;
 }
 
-// The columns of p on the rows that row_map sends somewhere (−1: left out), renumbered by it:
-// zeros dropped, a row repeated within a column summed.
+// The columns of p on the rows that row_map sends somewhere (−1: left out), renumbered by it.
 SpMat restrict_rows(const IpmProblem& p, const std::vector<int>& row_map, int rows) {
-  std::vector<int> outer{0}, inner;
-  std::vector<double> values;
-  inner.reserve(p.index.size());
-  values.reserve(p.index.size());
-  std::vector<std::pair<int, double>> column;
-  for (int j = 0; j < p.columns(); ++j) {
-    column.clear();
-    for (int k = p.start[j]; k < p.start[j + 1]; ++k)
-      if (p.value[k] != 0 && row_map[p.index[k]] >= 0)
-        column.emplace_back(row_map[p.index[k]], p.value[k]);
-    if (!std::is_sorted(column.begin(), column.end())) std::sort(column.begin(), column.end());
-    for (size_t e = 0; e < column.size(); ++e) {
-      if (e > 0 && column[e].first == column[e - 1].first)
-        values.back() += column[e].second;
-      else
-        inner.push_back(column[e].first), values.push_back(column[e].second);
-    }
-    outer.push_back(int(inner.size()));
-  }
-  return Eigen::Map<const SpMat>(rows, p.columns(), Eigen::Index(inner.size()), outer.data(),
-                                 inner.data(), values.data());
+  return renumber_rows(rows, p.columns(), p.start.data(), p.index.data(), p.value.data(), row_map);
 }
 
 // The products with A, as plain loops over its columns: A is stored by column, so A·x scatters

@@ -142,26 +142,41 @@ SpMat lower_normal_pattern(const SpMat& A, const EntriesByRow& rows) {
                                  zeros.data());
 }
 
-// A with row order[k] moved to row k, each column's rows sorted again.
-SpMat permute_rows(const SpMat& A, const std::vector<int>& order) {
+// A with row order[k] moved to row k.
+SpMat permute_rows(SpMat A, const std::vector<int>& order) {
+  A.makeCompressed();
   std::vector<int> position(order.size());
   for (size_t k = 0; k < order.size(); ++k) position[size_t(order[k])] = int(k);
-  SpMat permuted = A;
-  permuted.makeCompressed();
-  std::vector<std::pair<int, double>> column;
-  for (Eigen::Index j = 0; j < A.cols(); ++j) {
-    column.clear();
-    for (SpMat::InnerIterator it(A, j); it; ++it)
-      column.emplace_back(position[size_t(it.row())], it.value());
-    std::sort(column.begin(), column.end());
-    int k = permuted.outerIndexPtr()[j];
-    for (const auto& [row, value] : column)
-      permuted.innerIndexPtr()[k] = row, permuted.valuePtr()[k++] = value;
-  }
-  return permuted;
+  return renumber_rows(int(A.rows()), int(A.cols()), A.outerIndexPtr(), A.innerIndexPtr(),
+                       A.valuePtr(), position);
 }
 
 }  // namespace
+
+SpMat renumber_rows(int rows, int columns, const int* start, const int* index, const double* value,
+                    const std::vector<int>& row_map) {
+  std::vector<int> outer{0}, inner;
+  std::vector<double> values;
+  inner.reserve(size_t(start[columns]));
+  values.reserve(size_t(start[columns]));
+  std::vector<std::pair<int, double>> column;
+  for (int j = 0; j < columns; ++j) {
+    column.clear();
+    for (int k = start[j]; k < start[j + 1]; ++k)
+      if (value[k] != 0 && row_map[size_t(index[k])] >= 0)
+        column.emplace_back(row_map[size_t(index[k])], value[k]);
+    if (!std::is_sorted(column.begin(), column.end())) std::sort(column.begin(), column.end());
+    for (size_t e = 0; e < column.size(); ++e) {
+      if (e > 0 && column[e].first == column[e - 1].first)
+        values.back() += column[e].second;
+      else
+        inner.push_back(column[e].first), values.push_back(column[e].second);
+    }
+    outer.push_back(int(inner.size()));
+  }
+  return Eigen::Map<const SpMat>(rows, columns, Eigen::Index(inner.size()), outer.data(),
+                                 inner.data(), values.data());
+}
 
 std::vector<char> dependent_rows(const SpMat& A) {
   serialize_openmp_regions();

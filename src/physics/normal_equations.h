@@ -12,6 +12,12 @@ namespace lego::physics {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major, sorted rows in each column
 
+// A column-major matrix (column j's entries start[j] to start[j + 1] − 1 of index and value) on
+// the rows that row_map sends somewhere (−1: left out), renumbered by it: each column's rows
+// sorted, zeros dropped, a row repeated within a column summed.
+SparseMatrix renumber_rows(int rows, int columns, const int* start, const int* index,
+                           const double* value, const std::vector<int>& row_map);
+
 // An order of A's rows for factoring A·Θ·Aᵀ, postordered: minimum degree (AMD) where its factor
 // stays narrow, else METIS's nested dissection. Row order[k] of A is row k of the matrix factored.
 std::vector<int> fill_reducing_order(const SparseMatrix& A);
