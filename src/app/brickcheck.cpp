@@ -1,12 +1,14 @@
 // brickcheck: audits LDraw models for connectivity and stability (paper section 6).
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 
 #include "core/error.h"
 #include "ldraw/writer.h"
+#include "parts/part_library.h"
 #include "report/audit.h"
 #include "report/render.h"
 
@@ -19,13 +21,25 @@ enum Exit { kStable = 0, kUnstable = 1, kBadInput = 2, kUnanalysed = 3, kUndecid
 
 constexpr const char* kExitCodes = R"(Exit codes:
   0  every file is stable and connected
-  1  a file is unstable, has floating bricks, has no equilibrium, or a build step falls (--steps)
-  2  usage error, or a file cannot be read or analysed (missing, a directory, not text, no parts,
-     a malformed type-1 line)
-  3  --strict was given and a file holds parts that could not be analysed as bricks (without
-     --strict, a file none of whose parts is analysable says so and counts as 0)
+  1  a file is unstable, has floating parts, has no equilibrium, or a build step falls (--steps)
+  2  usage error, or a file cannot be read (missing, a directory, not text, no parts, a malformed
+     type-1 line)
+  3  a file has nothing that can be analysed as structure (every part carried or unknown); with
+     --strict also a file whose verdict assumes something (carried parts, parts left out)
   4  the solver could not decide (iteration limit or numerical trouble)
 When files differ, the highest of 2, 1, 4, 3 in that order wins.)";
+
+// Whether `dir` looks like an LDraw library: it has a parts/ or p/ folder (any case).
+bool is_ldraw_library(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return false;
+  for (fs::directory_iterator d(dir, ec), end; !ec && d != end; d.increment(ec)) {
+    std::string name = d->path().filename().string();
+    for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if ((name == "parts" || name == "p") && d->is_directory(ec)) return true;
+  }
+  return false;
+}
 
 fs::path heatmap_path(const fs::path& out, const fs::path& input, bool several) {
   if (!several) return out;
@@ -40,7 +54,7 @@ int main(int argc, char** argv) {
   app.footer(kExitCodes);
   std::vector<std::string> files;
   std::string ldraw_dir, ground = "baseplate", heatmap, main_model;
-  std::vector<std::string> load_texts;
+  std::vector<std::string> load_texts, ground_part_texts;
   double min_cm = 0;
   bool json = false, steps = false, quiet = false, strict = false;
   app.add_option("files", files, "LDraw models to check")->required();
@@ -48,10 +62,16 @@ int main(int argc, char** argv) {
                  "LDraw library for parts we do not ship (default: $LDRAWDIR)");
   app.add_option("--ground", ground, "baseplate: the ground holds knobs; table: it only pushes")
       ->check(CLI::IsMember({"baseplate", "table"}));
+  // One value per use, so an option never swallows the files that follow it.
   app.add_option(
-      "--load", load_texts,
-      "external weight: LINE=GRAMS or FILE:LINE=GRAMS (a brick's top knobs), step:K=GRAMS, "
-      "submodel:NAME=GRAMS (spread over their top knobs)");
+         "--load", load_texts,
+         "external weight: LINE=GRAMS or FILE:LINE=GRAMS (a brick's top knobs), step:K=GRAMS, "
+         "submodel:NAME=GRAMS (spread over their top knobs); repeatable")
+      ->allow_extra_args(false);
+  app.add_option("--ground-part", ground_part_texts,
+                 "the part this line places is fixed, part of the ground: LINE or FILE:LINE; "
+                 "repeatable")
+      ->allow_extra_args(false);
   app.add_option("--min-cm", min_cm, "stability threshold for C_M in grams-force (default 0)");
   app.add_option("--main", main_model, "the MPD model to check instead of the first FILE");
   app.add_flag("--json", json, "print JSON on stdout (docs/brickcheck-json.md)");
@@ -59,7 +79,8 @@ int main(int argc, char** argv) {
                  "write the model coloured by per-brick capacity to this .ldr");
   app.add_flag("--steps", steps, "check the model after every build step");
   app.add_flag("--quiet", quiet, "print only the verdict line of each file");
-  app.add_flag("--strict", strict, "exit 3 when parts could not be analysed");
+  app.add_flag("--strict", strict,
+               "exit 3 when the verdict assumes something: carried parts, parts left out");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -68,10 +89,16 @@ int main(int argc, char** argv) {
   }
 
   report::AuditOptions options;
-  if (!ldraw_dir.empty())
+  if (!ldraw_dir.empty()) {
+    if (!is_ldraw_library(ldraw_dir)) {
+      std::cerr << "brickcheck: --ldraw-dir " << ldraw_dir
+                << " is not an LDraw library (no parts/ or p/ folder in it)\n";
+      return kBadInput;
+    }
     options.read.library_dirs = {ldraw_dir};
-  else
+  } else {
     options.read.library_dirs = ldraw::library_dirs_from_env();
+  }
   if (!main_model.empty()) options.read.main_model = main_model;
   options.stability.ground =
       ground == "table" ? physics::GroundMode::Table : physics::GroundMode::Baseplate;
@@ -80,6 +107,8 @@ int main(int argc, char** argv) {
   options.brick_capacity = !heatmap.empty();
   try {
     for (const auto& t : load_texts) options.loads.push_back(report::parse_load_spec(t));
+    for (const auto& t : ground_part_texts)
+      options.ground_parts.push_back(report::parse_line_spec(t, "--ground-part"));
   } catch (const InputError& e) {
     std::cerr << "brickcheck: " << e.what() << "\n";
     return kBadInput;
@@ -104,11 +133,12 @@ int main(int argc, char** argv) {
                                  : 0;
   };
   nlohmann::json all = nlohmann::json::array();
+  parts::PartLibrary library(options.read.library_dirs, BrickCatalog::standard());
   for (const auto& file : files) {
     report::Audit audit;
     int code = kStable;
     try {
-      audit = report::audit_file(file, options);
+      audit = report::audit_file(file, options, library);
     } catch (const InputError& e) {
       audit.file = file;
       audit.verdict = report::Verdict::Unreadable;
@@ -128,10 +158,10 @@ int main(int argc, char** argv) {
         code = kBadInput;
         break;
       case report::Verdict::NothingToAnalyse:
-        code = kStable;
+        code = kUnanalysed;
         break;
     }
-    if (strict && code == kStable && !audit.conversion.skipped.empty()) code = kUnanalysed;
+    if (strict && code == kStable && audit.assumes()) code = kUnanalysed;
     if (rank(code) > rank(worst)) worst = code;
 
     if (json)
@@ -152,6 +182,10 @@ int main(int argc, char** argv) {
       }
     }
   }
-  if (json) std::cout << (files.size() == 1 ? all[0] : all).dump(2) << "\n";
+  // Titles and names are the user's bytes: text that is not UTF-8 is shown with U+FFFD.
+  if (json)
+    std::cout << (files.size() == 1 ? all[0] : all)
+                     .dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
+              << "\n";
   return worst;
 }

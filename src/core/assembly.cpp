@@ -1,15 +1,26 @@
 #include "core/assembly.h"
 
-#include <algorithm>
+#include <cmath>
 
 namespace lego {
 
-int Assembly::ground_level() const {
-  if (ground_y) return *ground_y;
-  if (bricks.empty()) return 0;
-  int lowest = bricks.front().min.y;
-  for (const auto& b : bricks) lowest = std::min(lowest, b.min.y);
-  return lowest;
+int Pose::turn(int direction) const {
+  const int a = axis_of(direction);
+  for (int r = 0; r < 3; ++r) {
+    const double m = rotation[3 * r + a];
+    if (std::abs(m) > 0.5) return direction_of(r, (m < 0) != (sign_of(direction) < 0));
+  }
+  return direction;
+}
+
+Pose pose_of(const Brick& b) {
+  if (b.pose) return *b.pose;
+  Pose p;
+  p.origin = {kLduPerStud * b.min.x + kLduPerStud * b.size_x() / 2.0,
+              -double(kLduPerPlate) * (b.min.y + b.height()),
+              kLduPerStud * b.min.z + kLduPerStud * b.size_z() / 2.0};
+  if (b.rotated) p.rotation = {0, 0, 1, 0, 1, 0, -1, 0, 0};
+  return p;
 }
 
 }  // namespace lego

@@ -1,6 +1,7 @@
 #pragma once
 #include <array>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/brick.h"
@@ -16,17 +17,31 @@ struct ExternalLoad {
   std::array<double, 3> point{0, 0, 0};  // used when not spread
 };
 
+// A placed part whose connections the physics cannot model (PHYSICS.md "Carried parts"): a
+// hinge, a wheel, a minifigure, a part at an angle. It keeps its weight and joins what it touches.
+struct CarriedPart {
+  std::string part;    // as the catalog names parts: "3938", "s/3068bs01"
+  std::string reason;  // why its connections are not modelled
+  int color = 16;
+  SourceRef source;
+  double mass_g = 0;
+  std::string mass_source;
+  std::vector<Box> body;      // in its own frame (LDU)
+  std::vector<Vec3> outline;  // PartShape::outline, or empty: the body's corners
+  Pose pose;                  // any rotation
+};
+
 // Bricks on the lattice plus what the physics needs besides them. Both front doors (LDraw files
 // and meshes) produce one.
 struct Assembly {
   std::vector<Brick> bricks;
+  std::vector<CarriedPart> carried;
   std::vector<ExternalLoad> loads;
-  // The ground plane in plates; by default the lowest bottom face of the model.
-  std::optional<int> ground_y;
+  // The ground plane: LDU above the origin (the lattice frame, y up); by default the lowest
+  // bottom face of the model.
+  std::optional<double> ground_height;
   // LDU position of lattice point (0,0,0)'s corner, so written files land where they were read.
   std::array<int, 3> origin_ldu{0, 0, 0};
-
-  int ground_level() const;  // ground_y or the lowest bottom face (0 when empty)
 };
 
 // The weight (newtons) of a mass in grams.

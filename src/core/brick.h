@@ -1,8 +1,12 @@
 #pragma once
+#include <array>
+#include <cstdint>
+#include <optional>
 #include <string>
 
 #include "core/brick_catalog.h"
 #include "core/lattice.h"
+#include "core/part_shape.h"
 
 namespace lego {
 
@@ -13,14 +17,43 @@ struct SourceRef {
   int step = 0;  // 1-based build step of the main model, 0 when unknown
 };
 
+// Where a part is, as LDraw places it: world = rotation · local + origin, in LDraw's frame (LDU,
+// -y up), relative to Assembly::origin_ldu. For an analysed part the rotation turns by multiples
+// of 90 degrees (a signed permutation, perhaps mirrored).
+struct Pose {
+  std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};  // row-major
+  Vec3 origin{0, 0, 0};
+
+  Vec3 apply(const Vec3& local) const {
+    Vec3 out = origin;
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) out[r] += rotation[3 * r + k] * local[k];
+    return out;
+  }
+  // A direction of the part's frame in LDraw's frame (rotation must be a signed permutation).
+  int turn(int direction) const;
+};
+
+// The lattice frame: LDU, y up (LDraw's y flipped). The physics works in it; this is the one
+// place LDraw's frame turns into it.
+inline Vec3 lattice_from_ldraw(const Vec3& p) {
+  return {p[0], -p[1], p[2]};
+}
+inline int lattice_direction(int ldraw_direction) {
+  return axis_of(ldraw_direction) == 1 ? opposite(ldraw_direction) : ldraw_direction;
+}
+
 // A brick on the lattice: the lattice cell of its minimum corner, turned 0 or 90 degrees about
-// the vertical. At 0 degrees its length runs along x; at 90 degrees along z.
+// the vertical. At 0 degrees its length runs along x; at 90 degrees along z. A part read from
+// LDraw has its exact pose instead (any turn by multiples of 90 degrees, anywhere): `pose`.
 struct Brick {
   const BrickType* type = nullptr;
-  LatticePoint min;  // x, z in studs; y in plates (the bottom face)
+  LatticePoint min;  // x, z in studs; y in plates (the bottom face); when `pose` is unset
   bool rotated = false;
+  std::optional<Pose> pose;
   int color = 16;  // LDraw colour code
   SourceRef source;
+  bool fixed = false;  // part of the ground: a baseplate at the bottom, or named so by the user
 
   int size_x() const { return rotated ? type->width : type->length; }
   int size_z() const { return rotated ? type->length : type->width; }
@@ -30,5 +63,9 @@ struct Brick {
   int top() const { return min.y + height(); }
   double mass_g() const { return type->mass_g; }
 };
+
+// The pose of any brick: `pose` when set, else the one its lattice cell and turn give (origin at
+// the top centre of the body, as LDraw parts have it).
+Pose pose_of(const Brick& brick);
 
 }  // namespace lego

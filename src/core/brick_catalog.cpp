@@ -80,6 +80,8 @@ const BrickCatalog& BrickCatalog::standard() {
 }
 
 const BrickType& BrickCatalog::add(BrickType type) {
+  if (type.shape.body.empty())
+    type.shape = box_brick_shape(type.length, type.width, type.height, type.has_knobs);
   std::string key = type.part;
   const BrickType& stored = types_.emplace_back(std::move(type));
   by_part_[key] = &stored;

@@ -5,9 +5,12 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "core/part_shape.h"
+
 namespace lego {
 
-// One kind of part the physics understands: a box on the lattice with knobs on top.
+// One kind of part the physics understands. The catalog's bricks and plates are boxes on the
+// lattice with knobs on top; parts learnt from an LDraw library (src/parts/) have any shape.
 struct BrickType {
   std::string part;  // LDraw part number without ".dat", lower case ("3001")
   std::string name;  // "Brick  2 x  4"
@@ -18,6 +21,8 @@ struct BrickType {
   double mass_g = 0;
   std::string mass_source;
   bool has_knobs = true;
+  PartShape shape;         // empty body: the box of length x width x height (box_brick_shape)
+  bool baseplate = false;  // the library says so: at the bottom of a model it is the ground
 };
 
 // The parts we support, read from ldraw_parts/catalog.csv. Types have stable addresses, so
@@ -31,7 +36,8 @@ class BrickCatalog {
   const BrickType* find(std::string_view part) const;  // accepts "3001", "3001.dat", "3001.DAT"
   // The catalog type with this footprint and height (length >= width), or nullptr.
   const BrickType* find_by_size(int length, int width, int height) const;
-  const BrickType& add(BrickType type);  // for parts learnt from an LDraw library
+  // For parts learnt from an LDraw library; a type without a body gets the box of its size.
+  const BrickType& add(BrickType type);
   const std::deque<BrickType>& types() const { return types_; }
 
  private:

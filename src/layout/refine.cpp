@@ -13,8 +13,9 @@
 namespace lego::layout {
 
 double comparable_cm_gf(const physics::StabilityResult& r) {
-  return r.status == physics::StabilityStatus::Solved ? r.cm_gf()
-                                                      : -std::numeric_limits<double>::infinity();
+  return r.status == physics::StabilityStatus::Solved && r.connectivity.all_grounded()
+             ? r.cm_gf()
+             : -std::numeric_limits<double>::infinity();
 }
 
 namespace {

@@ -69,7 +69,7 @@ LayoutAssembly to_assembly(const Layout& layout, const BrickCatalog& catalog, in
       out.assembly.bricks.push_back(brick);
       out.layout_id.push_back(id);
     }
-  out.assembly.ground_y = 0;
+  out.assembly.ground_height = 0;
 
   auto weigh = [&](int id, double grams) {
     ExternalLoad load;

@@ -132,15 +132,15 @@ class Parser {
     doc_.blocks.push_back(Block{});
     doc_.blocks.back().name = fs::path(doc_.file).filename().string();
     int line_no = 0;
+    // Lines end at LF, CR LF or a bare CR (old Mac files): a CR never reaches a name.
     while (pos <= text.size()) {
-      size_t end = text.find('\n', pos);
+      size_t end = text.find_first_of("\r\n", pos);
       if (end == std::string_view::npos) end = text.size();
       std::string_view line = text.substr(pos, end - pos);
-      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
       ++line_no;
       parse_line(line, line_no, pos);
       if (end == text.size()) break;
-      pos = end + 1;
+      pos = end + (text[end] == '\r' && end + 1 < text.size() && text[end + 1] == '\n' ? 2 : 1);
     }
     close_block(text.size());
     for (size_t i = 0; i < doc_.blocks.size(); ++i) {
@@ -264,8 +264,11 @@ class Parser {
   void parse_reference(std::string_view rest, int line_no) {
     std::string_view color_token = next_token(rest);
     auto color = parse_color_code(color_token);
-    if (!color)
-      return error(line_no, fmt::format("malformed type-1 line: bad colour '{}'", color_token));
+    if (!color) {  // LDraw viewers draw the part anyway: so do we, in the colour it inherits
+      warn(line_no, fmt::format("unknown colour '{}' (taken as 16, the colour it inherits)",
+                                color_token.size() > 40 ? color_token.substr(0, 40) : color_token));
+      color = kMainColor;
+    }
     double v[12];
     for (double& x : v) {
       std::string_view token = next_token(rest);

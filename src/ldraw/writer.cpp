@@ -9,7 +9,6 @@
 #include <system_error>
 
 #include "core/error.h"
-#include "ldraw/assembly_builder.h"
 
 namespace lego::ldraw {
 namespace {
@@ -54,6 +53,14 @@ std::vector<size_t> by_step(const Assembly& a) {
 }
 
 }  // namespace
+
+Transform brick_transform(const Brick& brick, const std::array<int, 3>& origin_ldu) {
+  const Pose pose = pose_of(brick);
+  Transform t;
+  for (int a = 0; a < 3; ++a) t.pos[size_t(a)] = origin_ldu[size_t(a)] + pose.origin[size_t(a)];
+  t.rot = pose.rotation;
+  return t;
+}
 
 std::string to_ldr(const Assembly& assembly, const WriteOptions& options) {
   std::string out =

@@ -5,6 +5,8 @@
 #include <vector>
 
 #include "core/assembly.h"
+#include "ldraw/color_table.h"
+#include "ldraw/transform.h"
 
 namespace lego::ldraw {
 
@@ -14,6 +16,9 @@ struct WriteOptions {
   std::string author = "legolization";
   bool steps = true;  // `0 STEP` between bricks of different Brick::source.step
 };
+
+// The LDraw transform of a brick of an assembly (origin at the top centre of its body).
+Transform brick_transform(const Brick& brick, const std::array<int, 3>& origin_ldu);
 
 // One .ldr: header, then one type-1 line per brick in the order given.
 std::string to_ldr(const Assembly& assembly, const WriteOptions& options);

@@ -2,142 +2,591 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <numeric>
+#include <tuple>
 #include <unordered_map>
+
+#include "physics/world_shape.h"
 
 namespace lego::physics {
 namespace {
 
-// Cell -> brick occupancy, the spatial index that keeps contact search linear.
-class Occupancy {
+// Faces closer than this (LDU) touch; bodies sharing more than this on every axis overlap.
+constexpr double kTouch = 0.25;
+// Faces that share less than this across (LDU) meet along an edge: no contact to push on.
+constexpr double kMinFace = 1.0;
+// A carried part joins what comes within this of its body (PHYSICS.md: 1 LDU).
+constexpr double kCarriedReach = 1.0;
+// A model settles on a table: parts whose bottom is within this of the lowest point stand on the
+// ground too. Measured on the corpus: a dozer drawn with its blade 2 LDU below its tyres, or a
+// tower with one ornament 2 LDU below its legs, otherwise rests on that one part and tips.
+constexpr double kSettle = 3.0;
+constexpr double kStudPitch = kLduPerStud;
+
+// The in-plane axes of a contact along `axis`, in the order its columns have always had: across
+// a horizontal plane x then z, across a vertical one y first.
+constexpr int kInPlane[3][2] = {{1, 2}, {0, 2}, {1, 0}};
+
+int64_t q(double v) {
+  return std::llround(v / kSnap);
+}
+
+struct PointKey {
+  int64_t x, y, z;
+  int direction;
+  friend bool operator==(const PointKey&, const PointKey&) = default;
+};
+struct PointKeyHash {
+  size_t operator()(const PointKey& k) const {
+    uint64_t h = uint64_t(k.x) * 0x9E3779B97F4A7C15ull;
+    h ^= uint64_t(k.y) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
+    h ^= uint64_t(k.z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
+    return size_t(h ^ uint64_t(k.direction));
+  }
+};
+PointKey key_of(const Vec3& p, int direction) {
+  return {q(p[0]), q(p[1]), q(p[2]), direction};
+}
+
+// Every receptacle of the assembly by position and facing; duplicates chain through `next`.
+class Receptacles {
  public:
-  explicit Occupancy(size_t cells) { map_.reserve(cells); }
-  static uint64_t key(int x, int y, int z) {
-    constexpr int64_t kOffset = 1 << 20;
-    return (uint64_t(x + kOffset) << 42) | (uint64_t(y + kOffset) << 21) | uint64_t(z + kOffset);
+  struct Entry {
+    Vec3 at;
+    int direction, brick, next;
+  };
+  void add(const Connector& c, int brick) {
+    const int index = int(entries_.size());
+    auto [it, inserted] = first_.try_emplace(key_of(c.at, c.direction), index);
+    entries_.push_back({c.at, c.direction, brick, inserted ? -1 : it->second});
+    if (!inserted) it->second = index;
   }
-  // Returns the brick already in the cell, or -1 after claiming it for `brick`.
-  int claim(int x, int y, int z, int brick) {
-    auto [it, inserted] = map_.try_emplace(key(x, y, z), brick);
-    return inserted ? -1 : it->second;
+  // The first entry at p facing `direction`, or -1; follow Entry::next for the others.
+  int find(const Vec3& p, int direction) const {
+    auto it = first_.find(key_of(p, direction));
+    return it == first_.end() ? -1 : it->second;
   }
-  int at(int x, int y, int z) const {
-    auto it = map_.find(key(x, y, z));
-    return it == map_.end() ? -1 : it->second;
+  bool owned_by(const Vec3& p, int direction, int brick) const {
+    for (int e = find(p, direction); e >= 0; e = entries_[size_t(e)].next)
+      if (entries_[size_t(e)].brick == brick) return true;
+    return false;
+  }
+  const Entry& operator[](int e) const { return entries_[size_t(e)]; }
+  void reserve(size_t n) {
+    first_.reserve(n);
+    entries_.reserve(n);
   }
 
  private:
-  std::unordered_map<uint64_t, int> map_;
+  std::unordered_map<PointKey, int, PointKeyHash> first_;
+  std::vector<Entry> entries_;
 };
 
-// Friction points of one knob (its cell's minimum corner at cx, cz) inside the cavity of `upper`.
-void add_knob_points(const Brick& upper, int cx, int cz, std::vector<FrictionPoint>& out) {
-  auto inside = [&](int x, int z) {
-    return x >= upper.min.x && x < upper.max_x() && z >= upper.min.z && z < upper.max_z();
-  };
-  const bool one_wide = upper.size_x() == 1 || upper.size_z() == 1;
-  const double ox = cx + 0.5, oz = cz + 0.5, r = kKnobRimRadius,
-               d = kKnobRimRadius / std::sqrt(2.0);
-  static constexpr int kAxis[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-  for (const auto& a : kAxis) {
-    // A wall where the cavity ends; in a one-stud-wide brick also the pins between knobs.
-    if (one_wide || !inside(cx + a[0], cz + a[1])) out.push_back({ox + r * a[0], oz + r * a[1]});
+// Boxes by the cells (one stud across, one brick high) they cover: a box finds what it touches
+// or overlaps by looking in the cells of its closed range.
+class BoxIndex {
+ public:
+  static constexpr double kCell[3] = {kLduPerStud, kLduPerPlate* kPlatesPerBrick, kLduPerStud};
+
+  void add(const Box& b, int id) {
+    for_cells(b, 0, [&](uint64_t cell) { cells_.emplace_back(cell, id); });
   }
-  if (one_wide) return;
-  static constexpr int kDiagonal[4][2] = {{1, 1}, {1, -1}, {-1, 1}, {-1, -1}};
-  for (const auto& g : kDiagonal) {
-    // A tube sits between four knobs: where the three neighbouring cells are all cavity.
-    if (inside(cx + g[0], cz) && inside(cx, cz + g[1]) && inside(cx + g[0], cz + g[1]))
-      out.push_back({ox + d * g[0], oz + d * g[1]});
+  void finish() { std::sort(cells_.begin(), cells_.end()); }
+  // Calls f(id) for every box in a cell that `b`, grown by `margin`, reaches; ids may repeat.
+  template <class F>
+  void near(const Box& b, double margin, F&& f) const {
+    for_cells(b, margin, [&](uint64_t cell) {
+      auto it = std::lower_bound(cells_.begin(), cells_.end(), std::pair<uint64_t, int>(cell, -1));
+      for (; it != cells_.end() && it->first == cell; ++it) f(it->second);
+    });
   }
+
+ private:
+  std::vector<std::pair<uint64_t, int>> cells_;
+
+  static int64_t cell(double v, int axis) { return int64_t(std::floor(v / kCell[axis])); }
+  // A box claims the cells of [min, max); a query with a margin reaches [min - m, max + m].
+  template <class F>
+  static void for_cells(const Box& b, double margin, F&& f) {
+    int64_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = cell(b.min[a] - margin, a);
+      hi[a] = margin > 0 ? cell(b.max[a] + margin, a) : cell(b.max[a] - 1e-9, a);
+      hi[a] = std::max(hi[a], lo[a]);
+    }
+    constexpr int64_t kOffset = int64_t(1) << 20;
+    for (int64_t x = lo[0]; x <= hi[0]; ++x)
+      for (int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (int64_t z = lo[2]; z <= hi[2]; ++z)
+          f((uint64_t(x + kOffset) << 42) | (uint64_t(y + kOffset) << 21) | uint64_t(z + kOffset));
+  }
+};
+
+struct DisjointSets {
+  std::vector<int> parent;
+  explicit DisjointSets(int n) : parent(size_t(n)) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int i) {
+    while (parent[size_t(i)] != i) i = parent[size_t(i)] = parent[size_t(parent[size_t(i)])];
+    return i;
+  }
+  void join(int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);  // the lowest index leads
+  }
+};
+
+// A contact being gathered: its parts, plane and what meets there.
+struct Meeting {
+  int lower = kGround, upper = 0, direction = kPlusY;
+  double plane = 0;
+  bool has_patch = false;
+  Rect patch;
+  std::vector<Vec3> receptacles;  // engaged, in `upper`
+  bool support = false;
+};
+
+void grow(Rect& r, bool& has, const Rect& add) {
+  if (!has) {
+    r = add;
+    has = true;
+    return;
+  }
+  r.u0 = std::min(r.u0, add.u0), r.v0 = std::min(r.v0, add.v0);
+  r.u1 = std::max(r.u1, add.u1), r.v1 = std::max(r.v1, add.v1);
 }
 
-void add_stacked(ContactGraph& g, const Assembly& a, int lower, int upper, bool knobs_engage) {
-  const Brick& u = a.bricks[upper];
-  StackedContact c;
-  c.lower = lower;
-  c.upper = upper;
-  c.y = u.min.y;
-  if (lower == kGround) {
-    c.overlap = {u.min.x, u.min.z, u.max_x(), u.max_z()};
-  } else {
-    const Brick& l = a.bricks[lower];
-    c.overlap = {std::max(u.min.x, l.min.x), std::max(u.min.z, l.min.z),
-                 std::min(u.max_x(), l.max_x()), std::min(u.max_z(), l.max_z())};
-  }
-  c.first_point = uint32_t(g.friction_points.size());
-  if (knobs_engage) {
-    c.knobs = c.overlap.area();
-    for (int x = c.overlap.x0; x < c.overlap.x1; ++x)
-      for (int z = c.overlap.z0; z < c.overlap.z1; ++z) add_knob_points(u, x, z, g.friction_points);
-  }
-  c.point_count = uint32_t(g.friction_points.size()) - c.first_point;
-  g.contacts_of[upper].push_back(int(g.stacked.size()));
-  if (lower != kGround) g.contacts_of[lower].push_back(int(g.stacked.size()));
-  g.stacked.push_back(c);
+Rect in_plane(const Box& b, int axis) {
+  const int f = kInPlane[axis][0], s = kInPlane[axis][1];
+  return {b.min[f], b.min[s], b.max[f], b.max[s]};
+}
+
+// Friction points of one engaged stud: where it touches `upper`'s receptacle at `r`, by the
+// receptacles around it (PHYSICS.md "Stud connection").
+void add_friction_points(const Receptacles& all, int upper, const Vec3& r, int facing,
+                         std::vector<FrictionPoint>& out) {
+  const int axis = axis_of(facing), f = kInPlane[axis][0], s = kInPlane[axis][1];
+  auto has = [&](int df, int ds) {
+    Vec3 p = r;
+    p[size_t(f)] += df * kStudPitch;
+    p[size_t(s)] += ds * kStudPitch;
+    return all.owned_by(p, facing, upper);
+  };
+  auto point = [&](double df, double ds) {
+    Vec3 p = r;
+    p[size_t(f)] += df;
+    p[size_t(s)] += ds;
+    out.push_back({p[0], p[1], p[2]});
+  };
+  const bool along_f = has(1, 0), back_f = has(-1, 0), along_s = has(0, 1), back_s = has(0, -1);
+  const double rim = kKnobRimRadius, diagonal = kKnobRimRadius / std::sqrt(2.0);
+  // A wall where the receptacles end; in a row one stud wide also the pins between them.
+  const bool row_f = !along_s && !back_s, row_s = !along_f && !back_f;
+  if (!along_f || row_f) point(rim, 0);
+  if (!back_f || row_f) point(-rim, 0);
+  if (!along_s || row_s) point(0, rim);
+  if (!back_s || row_s) point(0, -rim);
+  // A tube between four studs: where the three neighbouring receptacles are all there.
+  for (int df : {1, -1})
+    for (int ds : {1, -1})
+      if ((df > 0 ? along_f : back_f) && (ds > 0 ? along_s : back_s) && has(df, ds))
+        point(df * diagonal, ds * diagonal);
 }
 
 }  // namespace
 
+Vec3 body_centre(const Brick& brick) {
+  const WorldShape w = world_shape(brick);
+  Vec3 sum{0, 0, 0};
+  double volume = 0;
+  for (const Box& b : w.body) {
+    const double v = std::max(b.volume(), 1e-9);
+    for (int a = 0; a < 3; ++a) sum[a] += v * (b.min[a] + b.max[a]) / 2;
+    volume += v;
+  }
+  for (double& c : sum) c /= volume;
+  return sum;
+}
+
 ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   ContactGraph g;
   g.ground = ground;
-  g.ground_y = a.ground_level();
   const int n = int(a.bricks.size());
-  g.contacts_of.resize(n);
-  size_t cells = 0;
-  for (const Brick& b : a.bricks) cells += size_t(b.size_x()) * b.size_z() * b.height();
-  Occupancy occupancy(cells);
-  std::vector<std::pair<int, int>> overlaps;
-  for (int i = 0; i < n; ++i) {
-    const Brick& b = a.bricks[i];
-    for (int y = b.min.y; y < b.top(); ++y)
-      for (int x = b.min.x; x < b.max_x(); ++x)
-        for (int z = b.min.z; z < b.max_z(); ++z)
-          if (int other = occupancy.claim(x, y, z, i); other >= 0) overlaps.emplace_back(other, i);
-  }
-  std::sort(overlaps.begin(), overlaps.end());
-  overlaps.erase(std::unique(overlaps.begin(), overlaps.end()), overlaps.end());
-  g.overlaps = std::move(overlaps);
+  g.contacts_of.resize(size_t(n));
+  g.fixed.assign(size_t(n), 0);
 
-  std::vector<int> seen;  // neighbours already paired with the current brick
+  std::vector<WorldShape> shapes;
+  shapes.reserve(size_t(n));
+  size_t receptacle_count = 0;
+  for (const Brick& b : a.bricks) {
+    shapes.push_back(world_shape(b));
+    receptacle_count += shapes.back().receptacles.size();
+  }
+  std::vector<std::vector<OrientedBox>> carried_boxes;
+  std::vector<std::vector<Vec3>> carried_outline;
+  std::vector<double> carried_bottom;  // the lowest point of each carried part
+  for (const CarriedPart& c : a.carried) {
+    carried_boxes.push_back(world_boxes(c));
+    carried_outline.push_back(world_outline(c));
+    double bottom = 1e300;
+    for (const Vec3& p : carried_outline.back()) bottom = std::min(bottom, p[1]);
+    carried_bottom.push_back(bottom);
+  }
+
+  // The ground: given, or the lowest bottom face of anything placed.
+  if (a.ground_height) {
+    g.ground_height = *a.ground_height;
+  } else {
+    bool any = false;
+    auto lowest = [&](double y) {
+      g.ground_height = any ? std::min(g.ground_height, y) : y;
+      any = true;
+    };
+    for (const auto& s : shapes)
+      for (const Box& b : s.body) lowest(b.min[1]);
+    for (double bottom : carried_bottom)
+      if (bottom < 1e299) lowest(bottom);
+  }
+  const double ground_y = g.ground_height;
+  auto on_ground = [&](double y) { return std::abs(y - ground_y) <= kTouch; };
   for (int i = 0; i < n; ++i) {
-    const Brick& u = a.bricks[i];
-    // Stacked contacts: what lies right under the bottom face.
-    if (u.min.y == g.ground_y) {
-      add_stacked(g, a, kGround, i, ground == GroundMode::Baseplate);
-    } else {
-      seen.clear();
-      for (int x = u.min.x; x < u.max_x(); ++x)
-        for (int z = u.min.z; z < u.max_z(); ++z) {
-          int l = occupancy.at(x, u.min.y - 1, z);
-          if (l < 0 || l == i || std::find(seen.begin(), seen.end(), l) != seen.end()) continue;
-          seen.push_back(l);
-          if (a.bricks[l].top() == u.min.y) add_stacked(g, a, l, i, a.bricks[l].type->has_knobs);
-        }
+    bool bottom = false;
+    for (const Box& b : shapes[size_t(i)].body) bottom = bottom || b.min[1] <= ground_y + kSettle;
+    g.fixed[size_t(i)] =
+        a.bricks[size_t(i)].fixed || (a.bricks[size_t(i)].type->baseplate && bottom);
+  }
+
+  Receptacles receptacles;
+  receptacles.reserve(receptacle_count);
+  for (int i = 0; i < n; ++i)
+    for (const Connector& c : shapes[size_t(i)].receptacles) receptacles.add(c, i);
+  BoxIndex index;
+  std::vector<std::pair<int, int>> box_owner;  // (brick, box of its body)
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < int(shapes[size_t(i)].body.size()); ++k) {
+      index.add(shapes[size_t(i)].body[size_t(k)], int(box_owner.size()));
+      box_owner.emplace_back(i, k);
     }
-    // Side contacts across the +x and +z faces.
-    for (int axis : {0, 2}) {
-      seen.clear();
-      const int plane = axis == 0 ? u.max_x() : u.max_z();
-      const int t_lo = axis == 0 ? u.min.z : u.min.x, t_hi = axis == 0 ? u.max_z() : u.max_x();
-      for (int y = u.min.y; y < u.top(); ++y)
-        for (int t = t_lo; t < t_hi; ++t) {
-          int o = axis == 0 ? occupancy.at(plane, y, t) : occupancy.at(t, y, plane);
-          if (o < 0 || o == i || std::find(seen.begin(), seen.end(), o) != seen.end()) continue;
-          seen.push_back(o);
-          const Brick& v = a.bricks[o];
-          if ((axis == 0 ? v.min.x : v.min.z) != plane) continue;  // overlapping, not touching
-          SideContact s;
-          s.negative = i;
-          s.positive = o;
-          s.axis = axis;
-          s.plane = plane;
-          s.y0 = std::max(u.min.y, v.min.y);
-          s.y1 = std::min(u.top(), v.top());
-          s.t0 = std::max(t_lo, axis == 0 ? v.min.z : v.min.x);
-          s.t1 = std::min(t_hi, axis == 0 ? v.max_z() : v.max_x());
-          g.sides.push_back(s);
+  index.finish();
+  auto box = [&](int id) -> const Box& {
+    return shapes[size_t(box_owner[size_t(id)].first)].body[size_t(box_owner[size_t(id)].second)];
+  };
+
+  // Meetings keyed by (lower, upper, direction, plane): stud engagements and touching faces.
+  std::map<std::tuple<int, int, int, int64_t>, Meeting> meetings;
+  auto meeting = [&](int lower, int upper, int direction, double plane) -> Meeting& {
+    Meeting& m = meetings[{lower, upper, direction, q(plane)}];
+    m.lower = lower, m.upper = upper, m.direction = direction, m.plane = plane;
+    return m;
+  };
+
+  // Studs in receptacles, along any axis.
+  for (int l = 0; l < n; ++l)
+    for (const Connector& s : shapes[size_t(l)].studs)
+      for (int e = receptacles.find(s.at, opposite(s.direction)); e >= 0; e = receptacles[e].next) {
+        const int u = receptacles[e].brick;
+        if (u == l || (g.fixed[size_t(l)] && g.fixed[size_t(u)])) continue;
+        meeting(l, u, s.direction, s.at[size_t(axis_of(s.direction))])
+            .receptacles.push_back(receptacles[e].at);
+      }
+
+  // Faces that touch, and bodies that overlap.
+  std::vector<int> seen;
+  for (int id = 0; id < int(box_owner.size()); ++id) {
+    const Box& bi = box(id);
+    const int i = box_owner[size_t(id)].first;
+    seen.clear();
+    index.near(bi, kTouch, [&](int other) {
+      if (other <= id || box_owner[size_t(other)].first == i) return;
+      if (std::find(seen.begin(), seen.end(), other) != seen.end()) return;
+      seen.push_back(other);
+      const Box& bj = box(other);
+      const int j = box_owner[size_t(other)].first;
+      double overlap[3];
+      int touching = -1, shared = 0;
+      int wide = 0;
+      for (int ax = 0; ax < 3; ++ax) {
+        overlap[ax] = std::min(bi.max[ax], bj.max[ax]) - std::max(bi.min[ax], bj.min[ax]);
+        if (overlap[ax] > kTouch)
+          ++shared;
+        else if (overlap[ax] >= -kTouch)
+          touching = ax;
+        if (overlap[ax] >= kMinFace) ++wide;
+      }
+      if (shared == 3) {
+        g.overlaps.emplace_back(std::min(i, j), std::max(i, j));
+        return;
+      }
+      if (shared != 2 || wide != 2 || touching < 0 || (g.fixed[size_t(i)] && g.fixed[size_t(j)]))
+        return;
+      const bool i_below = std::abs(bi.max[touching] - bj.min[touching]) <= kTouch;
+      const int lower = i_below ? i : j, upper = i_below ? j : i;
+      const double plane = i_below ? bi.max[touching] : bj.max[touching];
+      Box common;
+      for (int ax = 0; ax < 3; ++ax) {
+        common.min[ax] = std::max(bi.min[ax], bj.min[ax]);
+        common.max[ax] = std::min(bi.max[ax], bj.max[ax]);
+      }
+      Meeting& m = meeting(lower, upper, direction_of(touching, false), plane);
+      grow(m.patch, m.has_patch, in_plane(common, touching));
+    });
+  }
+  std::sort(g.overlaps.begin(), g.overlaps.end());
+  g.overlaps.erase(std::unique(g.overlaps.begin(), g.overlaps.end()), g.overlaps.end());
+
+  // The ground under the bricks that reach it, or settle onto it.
+  for (int i = 0; i < n; ++i) {
+    if (g.fixed[size_t(i)]) continue;
+    for (const Box& b : shapes[size_t(i)].body)
+      if (b.min[1] <= ground_y + kSettle) {
+        Meeting& m = meeting(kGround, i, kPlusY, on_ground(b.min[1]) ? ground_y : b.min[1]);
+        grow(m.patch, m.has_patch, in_plane(b, 1));
+        m.support = true;
+      }
+  }
+  if (ground == GroundMode::Baseplate)
+    for (int i = 0; i < n; ++i)
+      if (!g.fixed[size_t(i)])
+        for (const Connector& r : shapes[size_t(i)].receptacles)
+          if (r.direction == kMinusY && on_ground(r.at[1]))
+            meeting(kGround, i, kPlusY, ground_y).receptacles.push_back(r.at);
+
+  // Carried parts: grouped where they touch, joined to the bricks they touch.
+  const int carried = int(a.carried.size());
+  if (carried > 0) {
+    DisjointSets groups(carried);
+    BoxIndex carried_index;
+    std::vector<int> carried_owner;
+    for (int c = 0; c < carried; ++c)
+      for (const auto& o : carried_boxes[size_t(c)]) {
+        carried_index.add(o.bounds(), int(carried_owner.size()));
+        carried_owner.push_back(c);
+      }
+    carried_index.finish();
+    std::vector<int> box_of_carried(size_t(carried) + 1, 0);  // first box of each carried part
+    for (int c = 0; c < carried; ++c)
+      box_of_carried[size_t(c) + 1] =
+          box_of_carried[size_t(c)] + int(carried_boxes[size_t(c)].size());
+    // What a carried part rests on may be studs (a plant over a stud): they count as body here.
+    BoxIndex stud_index;
+    std::vector<Box> stud_boxes;
+    std::vector<int> stud_owner;
+    for (int i = 0; i < n; ++i)
+      for (const Connector& k : shapes[size_t(i)].studs) {
+        Box b{k.at, k.at};
+        const int ax = axis_of(k.direction);
+        for (int other = 0; other < 3; ++other)
+          if (other != ax)
+            b.min[size_t(other)] -= kKnobRimRadius, b.max[size_t(other)] += kKnobRimRadius;
+        (sign_of(k.direction) > 0 ? b.max : b.min)[size_t(ax)] += 4 * sign_of(k.direction);
+        stud_index.add(b, int(stud_boxes.size()));
+        stud_boxes.push_back(b);
+        stud_owner.push_back(i);
+      }
+    stud_index.finish();
+    std::vector<std::vector<int>> touched(static_cast<size_t>(carried));
+    for (int c = 0; c < carried; ++c)
+      for (int k = 0; k < int(carried_boxes[size_t(c)].size()); ++k) {
+        const OrientedBox& o = carried_boxes[size_t(c)][size_t(k)];
+        const Box bounds = o.bounds();
+        carried_index.near(bounds, kCarriedReach, [&](int other) {
+          const int d = carried_owner[size_t(other)];
+          if (d == c || groups.find(d) == groups.find(c)) return;
+          const OrientedBox& p =
+              carried_boxes[size_t(d)][size_t(other - box_of_carried[size_t(d)])];
+          if (touch(o, p, kCarriedReach)) groups.join(c, d);
+        });
+        index.near(bounds, kCarriedReach, [&](int id) {
+          const int brick = box_owner[size_t(id)].first;
+          auto& t = touched[size_t(c)];
+          if (std::find(t.begin(), t.end(), brick) != t.end()) return;
+          if (touch(o, as_oriented(box(id)), kCarriedReach)) t.push_back(brick);
+        });
+        stud_index.near(bounds, kCarriedReach, [&](int id) {
+          const int brick = stud_owner[size_t(id)];
+          auto& t = touched[size_t(c)];
+          if (std::find(t.begin(), t.end(), brick) != t.end()) return;
+          if (touch(o, as_oriented(stud_boxes[size_t(id)]), kCarriedReach)) t.push_back(brick);
+        });
+      }
+    std::map<int, int> group_of_root;
+    std::vector<Vec3> weighted;  // per group: Σ mass · centre
+    for (int c = 0; c < carried; ++c) {
+      auto [it, inserted] = group_of_root.try_emplace(groups.find(c), int(g.carried_groups.size()));
+      if (inserted) {
+        g.carried_groups.emplace_back();
+        weighted.push_back({0, 0, 0});
+      }
+      CarriedGroup& group = g.carried_groups[size_t(it->second)];
+      group.carried.push_back(c);
+      Vec3 centre{0, 0, 0};
+      double volume = 0;
+      for (const auto& o : carried_boxes[size_t(c)]) {
+        const double v = std::max(8 * o.half[0] * o.half[1] * o.half[2], 1e-9);
+        for (int ax = 0; ax < 3; ++ax) centre[ax] += v * o.centre[ax];
+        volume += v;
+      }
+      group.on_ground = group.on_ground || carried_bottom[size_t(c)] <= ground_y + kSettle;
+      const double m = std::max(a.carried[size_t(c)].mass_g, 1e-9);
+      for (int ax = 0; ax < 3; ++ax) weighted[size_t(it->second)][ax] += m * centre[ax] / volume;
+      group.mass_g += m;
+      for (int brick : touched[size_t(c)]) {
+        auto& list = g.fixed[size_t(brick)] ? group.rests_on_fixed : group.joins;
+        if (std::find(list.begin(), list.end(), brick) == list.end()) list.push_back(brick);
+      }
+    }
+    for (size_t k = 0; k < g.carried_groups.size(); ++k)
+      for (int ax = 0; ax < 3; ++ax)
+        g.carried_groups[k].centre[ax] = weighted[k][ax] / g.carried_groups[k].mass_g;
+    for (auto& group : g.carried_groups) {
+      std::sort(group.joins.begin(), group.joins.end());
+      std::sort(group.rests_on_fixed.begin(), group.rests_on_fixed.end());
+      if (group.joins.empty() || (!group.on_ground && group.rests_on_fixed.empty())) continue;
+      // Where the group stands on the ground or a fixed part, it holds the body it joins like
+      // the ground does: it pushes and holds sideways.
+      double bottom = 1e300;
+      for (int c : group.carried) bottom = std::min(bottom, carried_bottom[size_t(c)]);
+      const double reach = group.on_ground ? kSettle : kCarriedReach;
+      Meeting& m = meeting(group.on_ground ? kGround : group.rests_on_fixed.front(),
+                           group.joins.front(), kPlusY, group.on_ground ? ground_y : bottom);
+      // It stands on its lowest points: a tyre on a strip across its tread.
+      for (int c : group.carried)
+        for (const Vec3& p : carried_outline[size_t(c)])
+          if (p[1] <= (group.on_ground ? ground_y : bottom) + reach)
+            grow(m.patch, m.has_patch, {p[0], p[2], p[0], p[2]});
+      if (m.patch.u1 - m.patch.u0 < kMinFace)
+        m.patch.u0 -= kMinFace / 2, m.patch.u1 += kMinFace / 2;
+      if (m.patch.v1 - m.patch.v0 < kMinFace)
+        m.patch.v0 -= kMinFace / 2, m.patch.v1 += kMinFace / 2;
+      m.support = true;
+    }
+  }
+
+  // A stud connection pointing down or to a low side meets the faces there from the other side.
+  for (auto& [key, m] : meetings) {
+    if (m.receptacles.empty() || sign_of(m.direction) > 0 || m.lower == kGround) continue;
+    auto face = meetings.find({m.upper, m.lower, opposite(m.direction), q(m.plane)});
+    if (face == meetings.end() || !face->second.receptacles.empty()) continue;
+    if (face->second.has_patch) grow(m.patch, m.has_patch, face->second.patch);
+    face->second.has_patch = false;  // one contact for both
+  }
+
+  // Contacts in a fixed order: along the vertical first, by the part above; then across x and z,
+  // by the part on the low side.
+  std::vector<Meeting*> ordered;
+  ordered.reserve(meetings.size());
+  for (auto& [key, m] : meetings) {
+    if (m.receptacles.empty() && !m.has_patch) continue;
+    ordered.push_back(&m);
+  }
+  auto order_key = [](const Meeting* m) {
+    const int axis = axis_of(m->direction);
+    const bool positive = sign_of(m->direction) > 0;
+    const int primary =
+        axis == 1 ? (positive ? m->upper : m->lower) : (positive ? m->lower : m->upper);
+    const double f0 = m->has_patch ? m->patch.u0 : 0, s0 = m->has_patch ? m->patch.v0 : 0;
+    return std::make_tuple(axis == 1 ? 0 : 1, primary, axis, f0, s0, m->lower, m->upper,
+                           m->direction);
+  };
+  std::sort(ordered.begin(), ordered.end(),
+            [&](const Meeting* x, const Meeting* y) { return order_key(x) < order_key(y); });
+  for (Meeting* m : ordered) {
+    Contact c;
+    c.lower = m->lower;
+    c.upper = m->upper;
+    c.direction = m->direction;
+    c.plane = m->plane;
+    c.support = m->support;
+    const int axis = axis_of(m->direction), f = kInPlane[axis][0], s = kInPlane[axis][1];
+    if (!m->receptacles.empty()) {
+      auto& rs = m->receptacles;
+      std::sort(rs.begin(), rs.end(), [&](const Vec3& x, const Vec3& y) {
+        return std::pair(x[size_t(f)], x[size_t(s)]) < std::pair(y[size_t(f)], y[size_t(s)]);
+      });
+      rs.erase(std::unique(rs.begin(), rs.end()), rs.end());
+      c.studs = int(rs.size());
+      c.support = true;
+      c.first_point = uint32_t(g.friction_points.size());
+      if (!(ground == GroundMode::Table && c.lower == kGround))
+        for (const Vec3& r : rs)
+          add_friction_points(receptacles, c.upper, r, opposite(m->direction), g.friction_points);
+      c.point_count = uint32_t(g.friction_points.size()) - c.first_point;
+      if (!m->has_patch) {  // the bodies do not meet (a recessed stud): the studs' cells
+        for (const Vec3& r : rs)
+          grow(m->patch, m->has_patch,
+               {r[size_t(f)] - kStudPitch / 2, r[size_t(s)] - kStudPitch / 2,
+                r[size_t(f)] + kStudPitch / 2, r[size_t(s)] + kStudPitch / 2});
+      }
+    }
+    c.patch = m->patch;
+    if (!c.snap() && c.lower != kGround) {
+      for (const Connector& k : shapes[size_t(c.lower)].studs) {
+        if (k.direction != c.direction || std::abs(k.at[size_t(axis)] - c.plane) > kTouch) continue;
+        const double kf = k.at[size_t(f)], ks = k.at[size_t(s)];
+        if (kf > c.patch.u0 + kMinFace && kf < c.patch.u1 - kMinFace &&
+            ks > c.patch.v0 + kMinFace && ks < c.patch.v1 - kMinFace) {
+          c.misaligned = true;
+          break;
         }
+      }
+    }
+    const int index = int(g.contacts.size());
+    if (c.lower != kGround) g.contacts_of[size_t(c.lower)].push_back(index);
+    g.contacts_of[size_t(c.upper)].push_back(index);
+    g.contacts.push_back(c);
+  }
+  // Assumed-rigid joints, after every other contact: each group ties the bricks it joins along
+  // the shortest links between their centres (a tree of joints is as rigid as one body). Merged
+  // into one body, those bricks made rows dense and the interior point method stalled; a star
+  // from one brick did too. A tree keeps each brick's joints few and their lever arms short.
+  std::vector<Vec3> centre(static_cast<size_t>(n));
+  for (const CarriedGroup& group : g.carried_groups) {
+    const auto& joins = group.joins;
+    if (joins.size() < 2) continue;
+    for (int b : joins) {
+      Vec3 sum{0, 0, 0};
+      double volume = 0;
+      for (const Box& box : shapes[size_t(b)].body) {
+        const double v = std::max(box.volume(), 1e-9);
+        for (int ax = 0; ax < 3; ++ax)
+          sum[size_t(ax)] += v * (box.min[size_t(ax)] + box.max[size_t(ax)]) / 2;
+        volume += v;
+      }
+      for (double& x : sum) x /= volume;
+      centre[size_t(b)] = sum;
+    }
+    auto distance = [&](int x, int y) {
+      double d = 0;
+      for (int ax = 0; ax < 3; ++ax)
+        d += (centre[size_t(x)][size_t(ax)] - centre[size_t(y)][size_t(ax)]) *
+             (centre[size_t(x)][size_t(ax)] - centre[size_t(y)][size_t(ax)]);
+      return d;
+    };
+    // Prim's tree over the joined bricks, from the first.
+    std::vector<char> in_tree(joins.size(), 0);
+    std::vector<double> best(joins.size(), 1e300);
+    std::vector<size_t> link(joins.size(), 0);
+    in_tree[0] = 1;
+    for (size_t k = 1; k < joins.size(); ++k) best[k] = distance(joins[0], joins[k]);
+    for (size_t added = 1; added < joins.size(); ++added) {
+      size_t next = 0;
+      for (size_t k = 1; k < joins.size(); ++k)
+        if (!in_tree[k] && (next == 0 || best[k] < best[next])) next = k;
+      in_tree[next] = 1;
+      Contact c;
+      c.lower = joins[link[next]];
+      c.upper = joins[next];
+      c.joint = true;
+      for (int ax = 0; ax < 3; ++ax)
+        c.joint_point[size_t(ax)] =
+            (centre[size_t(c.lower)][size_t(ax)] + centre[size_t(c.upper)][size_t(ax)]) / 2;
+      const int index = int(g.contacts.size());
+      g.contacts_of[size_t(c.lower)].push_back(index);
+      g.contacts_of[size_t(c.upper)].push_back(index);
+      g.contacts.push_back(c);
+      for (size_t k = 1; k < joins.size(); ++k)
+        if (!in_tree[k] && distance(joins[next], joins[k]) < best[k])
+          best[k] = distance(joins[next], joins[k]), link[k] = next;
     }
   }
   return g;

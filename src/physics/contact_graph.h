@@ -1,4 +1,7 @@
 #pragma once
+// Every contact of an assembly (PHYSICS.md "Connections", "Carried parts", "Ground"), in the
+// lattice frame: LDU, y up. Built from the parts' studs, receptacles and body boxes where the
+// assembly places them, through spatial hashes, in time linear in the parts.
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -14,51 +17,68 @@ enum class GroundMode {
   Table,      // the ground only pushes: normal and support forces, no friction
 };
 
-// Horizontal rectangle on the lattice, in studs; max is exclusive.
+// A rectangle in a contact's plane, in the plane's two other axes (u = axis + 1, v = axis + 2,
+// modulo 3), LDU; u0 < u1, v0 < v1.
 struct Rect {
-  int x0 = 0, z0 = 0, x1 = 0, z1 = 0;
-  int area() const { return (x1 - x0) * (z1 - z0); }
+  double u0 = 0, v0 = 0, u1 = 0, v1 = 0;
+  double area() const { return (u1 - u0) * (v1 - v0); }
 };
 
-// Where a knob of the lower brick touches the cavity of the upper one (PHYSICS.md "Contacts").
+// Where a stud of the lower part touches a receptacle of the upper one (PHYSICS.md).
 struct FrictionPoint {
-  double x = 0, z = 0;  // world position in studs
+  double x = 0, y = 0, z = 0;  // lattice frame, LDU
 };
 
-// Brick `upper` stands on `lower` (or on the ground) at height `y` (plates).
-struct StackedContact {
+// Two parts that meet in a plane perpendicular to `direction`, `upper` on its positive side.
+// A stud connection (studs > 0): studs of `lower` in receptacles of `upper`; friction, normal and
+// support forces. A face contact (studs == 0): normal forces only, but for the ground, which
+// also holds sideways (support). An assumed-rigid joint (joint): a carried part ties the two
+// together; any force and moment passes, at `joint_point`.
+struct Contact {
   int lower = kGround;
   int upper = 0;
-  int y = 0;
-  Rect overlap;
-  int knobs = 0;                              // knobs of `lower` engaged in `upper`'s cavity
+  int direction = kPlusY;  // from lower to upper, lattice frame (core/part_shape.h)
+  double plane = 0;        // LDU along the direction's axis
+  Rect patch;              // where the two bodies' faces meet (normal forces at its corners)
+  int studs = 0;
+  bool support = false;
+  // A face contact where studs of `lower` stand inside the patch without engaging `upper`: the
+  // upper part is placed off the lattice (it would sit on the studs, not on the face).
+  bool misaligned = false;
+  bool joint = false;
+  Vec3 joint_point{0, 0, 0};                  // lattice frame, LDU
   uint32_t first_point = 0, point_count = 0;  // range in ContactGraph::friction_points
-  bool snap() const { return knobs > 0; }
+  bool snap() const { return studs > 0; }
 };
 
-// Two bricks whose vertical faces lie in one plane and overlap: they can only push.
-struct SideContact {
-  int negative = 0, positive = 0;  // `negative` lies on the low side of the plane
-  int axis = 0;                    // 0: the plane is x = const; 2: z = const
-  int plane = 0;                   // studs
-  int y0 = 0, y1 = 0;              // plates
-  int t0 = 0, t1 = 0;              // studs along the other horizontal axis
+// Carried parts that touch one another, and what they touch (PHYSICS.md "Carried parts").
+struct CarriedGroup {
+  std::vector<int> carried;         // indices into Assembly::carried
+  std::vector<int> joins;           // analysed, not fixed bricks it touches: tied to one another
+  std::vector<int> rests_on_fixed;  // fixed bricks it touches
+  bool on_ground = false;           // it reaches the ground plane
+  double mass_g = 0;
+  Vec3 centre{0, 0, 0};  // of its mass, lattice frame LDU
+  bool assumed_joint() const { return joins.size() >= 2; }
 };
 
-// Every contact of an assembly, found through a spatial index in O(bricks).
 struct ContactGraph {
   GroundMode ground = GroundMode::Baseplate;
-  int ground_y = 0;
-  std::vector<StackedContact> stacked;
-  std::vector<SideContact> sides;
+  double ground_height = 0;  // LDU, lattice frame
+  std::vector<Contact> contacts;
   std::vector<FrictionPoint> friction_points;
-  std::vector<std::pair<int, int>> overlaps;  // bricks that share lattice cells (collisions)
-  std::vector<std::vector<int>> contacts_of;  // per brick: indices into `stacked`
+  std::vector<std::pair<int, int>> overlaps;  // bricks whose bodies share volume (collisions)
+  std::vector<std::vector<int>> contacts_of;  // per brick: indices into `contacts`
+  std::vector<char> fixed;                    // per brick: part of the ground
+  std::vector<CarriedGroup> carried_groups;
 
   static ContactGraph build(const Assembly& assembly, GroundMode ground);
 };
 
-// The knob rim radius R in studs (6 LDU).
-inline constexpr double kKnobRimRadius = 6.0 / 20.0;
+// The knob rim radius R (LDU).
+inline constexpr double kKnobRimRadius = 6.0;
+
+// The centre of a brick's body (lattice frame, LDU): its boxes' centroid.
+Vec3 body_centre(const Brick& brick);
 
 }  // namespace lego::physics

@@ -1,36 +1,65 @@
 #include "physics/force_model.h"
 
+#include <cmath>
+
 #include "core/lattice.h"
+#include "physics/world_shape.h"
 
 namespace lego::physics {
 namespace {
 
-struct Vec3 {
-  double x = 0, y = 0, z = 0;
-};
+constexpr int kInPlane[3][2] = {{1, 2}, {0, 2}, {1, 0}};  // as in contact_graph.cpp
+// A joint carries whole parts of a model: its columns count in units of this many times a
+// contact's, so that they stay inside the box the solver puts around free columns (a joint
+// holding 10 N reached 527 of the box's 1,000 on the corpus's shopping centre, and the box was
+// widened and the LP solved again).
+constexpr double kJointUnit = 100;
+// Coefficients are forces (1) and lever arms in studs (1e-2 and up): below this is roundoff.
+constexpr double kNegligible = 1e-9;
 
-Vec3 centre(const Brick& b) {
-  return {b.min.x + b.size_x() / 2.0, (b.min.y + b.height() / 2.0) * kStudsPerPlate,
-          b.min.z + b.size_z() / 2.0};
+Vec3 studs(const Vec3& ldu) {
+  return {ldu[0] / kLduPerStud, ldu[1] / kLduPerStud, ldu[2] / kLduPerStud};
+}
+
+Vec3 unit(int axis, double sign = 1) {
+  Vec3 v{0, 0, 0};
+  v[size_t(axis)] = sign;
+  return v;
 }
 
 class Builder {
  public:
-  Builder(const Assembly& a, EquilibriumSystem& s) : a_(a), s_(s) {
-    for (const Brick& b : a.bricks) centres_.push_back(centre(b));
-  }
+  Builder(EquilibriumSystem& s, std::vector<Vec3> centres) : s_(s), centres_(std::move(centres)) {}
 
-  // A force `f` (per unit of the column's value) applied to `brick` at point `p`.
-  void apply(int brick, Vec3 p, Vec3 f) {
+  // A force `f` (per unit of the column's value) applied to `brick` at point `p` (studs).
+  void apply(int brick, const Vec3& p, const Vec3& f) {
     if (brick == kGround) return;  // the ground has no equations
-    const Vec3& c = centres_[brick];
-    const Vec3 r{p.x - c.x, p.y - c.y, p.z - c.z};
-    const double entries[6] = {
-        f.x, f.y, f.z, r.y * f.z - r.z * f.y, r.z * f.x - r.x * f.z, r.x * f.y - r.y * f.x};
+    const int body = s_.body_of[size_t(brick)];
+    if (body < 0) return;  // nor have fixed bricks
+    const Vec3& c = centres_[size_t(body)];
+    const Vec3 r{p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+    const double entries[6] = {f[0],
+                               f[1],
+                               f[2],
+                               r[1] * f[2] - r[2] * f[1],
+                               r[2] * f[0] - r[0] * f[2],
+                               r[0] * f[1] - r[1] * f[0]};
+    // Lever arms are differences of coordinates that carry roundoff (a centre averaged over
+    // boxes): a 1e-16 entry is a zero, and kept it makes its row nearly empty, not empty,
+    // which the interior point method cannot tell from a real equation.
     for (int e = 0; e < 6; ++e)
-      if (entries[e] != 0) {
-        s_.row_index.push_back(EquilibriumSystem::row(brick, e));
+      if (std::abs(entries[e]) > kNegligible) {
+        s_.row_index.push_back(EquilibriumSystem::row(body, e));
         s_.value.push_back(entries[e]);
+      }
+  }
+  // A moment `m` (per unit of the column's value) on `brick`.
+  void apply_moment(int brick, const Vec3& m) {
+    if (brick == kGround || s_.body_of[size_t(brick)] < 0) return;
+    for (int e = 0; e < 3; ++e)
+      if (m[size_t(e)] != 0) {
+        s_.row_index.push_back(EquilibriumSystem::row(s_.body_of[size_t(brick)], 3 + e));
+        s_.value.push_back(m[size_t(e)]);
       }
   }
   void end_column(ForceKind kind, int contact) {
@@ -38,100 +67,163 @@ class Builder {
     s_.contact.push_back(contact);
     s_.column_start.push_back(int(s_.row_index.size()));
   }
+  // A fixed force on a body, moved to the right-hand side.
+  void load(int body, const Vec3& p, const Vec3& f) {
+    const Vec3& c = centres_[size_t(body)];
+    const Vec3 r{p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+    const double wrench[6] = {f[0],
+                              f[1],
+                              f[2],
+                              r[1] * f[2] - r[2] * f[1],
+                              r[2] * f[0] - r[0] * f[2],
+                              r[0] * f[1] - r[1] * f[0]};
+    for (int e = 0; e < 6; ++e) s_.rhs[size_t(EquilibriumSystem::row(body, e))] -= wrench[e];
+  }
 
  private:
-  const Assembly& a_;
   EquilibriumSystem& s_;
   std::vector<Vec3> centres_;
 };
 
 }  // namespace
 
-EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g) {
+EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
+                                    const Connectivity& connectivity) {
   EquilibriumSystem s;
   const int n = int(a.bricks.size());
-  s.rows = 6 * n;
-  s.row_index.reserve(6 * g.friction_points.size() + 24 * g.stacked.size() + 16 * g.sides.size());
-  s.value.reserve(s.row_index.capacity());
-  Builder b(a, s);
+  std::vector<char> floating(size_t(n), 0);
+  for (int b : connectivity.floating) floating[size_t(b)] = 1;
+  // Rows for the grounded bricks that are not the ground themselves, in brick order.
+  s.body_of.assign(size_t(n), -1);
+  int bodies = 0;
+  for (int i = 0; i < n; ++i)
+    if (!floating[size_t(i)] && (g.fixed.empty() || !g.fixed[size_t(i)]))
+      s.body_of[size_t(i)] = bodies++;
+  s.rows = EquilibriumSystem::kEquations * bodies;
+  // Each body's centre (studs).
+  std::vector<Vec3> brick_centre(static_cast<size_t>(n)),
+      centre(static_cast<size_t>(bodies), Vec3{0, 0, 0});
+  std::vector<double> mass(size_t(bodies), 0.0);
+  for (int i = 0; i < n; ++i) {
+    const int body = s.body_of[size_t(i)];
+    if (body < 0) continue;
+    brick_centre[size_t(i)] = studs(body_centre(a.bricks[size_t(i)]));
+    const double m = std::max(a.bricks[size_t(i)].mass_g(), 1e-9);
+    for (int k = 0; k < 3; ++k)
+      centre[size_t(body)][size_t(k)] += m * brick_centre[size_t(i)][size_t(k)];
+    mass[size_t(body)] += m;
+  }
+  for (int b = 0; b < bodies; ++b)
+    for (double& c : centre[size_t(b)]) c /= mass[size_t(b)];
 
-  // Friction: pulls the upper brick down and the lower one up, at the knob rim.
-  for (int ci = 0; ci < int(g.stacked.size()); ++ci) {
-    const auto& c = g.stacked[ci];
-    const double y = c.y * kStudsPerPlate;
+  std::vector<char> taken(g.contacts.size(), 0);
+  for (size_t ci = 0; ci < g.contacts.size(); ++ci) {
+    const Contact& c = g.contacts[ci];
+    auto body = [&](int brick) { return brick == kGround ? -1 : s.body_of[size_t(brick)]; };
+    const bool lower_floats = c.lower != kGround && floating[size_t(c.lower)];
+    const bool upper_floats = floating[size_t(c.upper)];
+    const int bl = body(c.lower), bu = body(c.upper);
+    taken[ci] = !lower_floats && !upper_floats && bl != bu;
+  }
+  s.row_index.reserve(6 * g.friction_points.size() + 24 * g.contacts.size());
+  s.value.reserve(s.row_index.capacity());
+  Builder b(s, centre);
+
+  // Friction pulls the upper part towards the lower one, at the knob rim.
+  for (int ci = 0; ci < int(g.contacts.size()); ++ci) {
+    if (!taken[size_t(ci)]) continue;
+    const Contact& c = g.contacts[size_t(ci)];
+    const Vec3 d = unit(axis_of(c.direction), sign_of(c.direction));
     for (uint32_t k = 0; k < c.point_count; ++k) {
       const FrictionPoint& p = g.friction_points[c.first_point + k];
-      b.apply(c.upper, {p.x, y, p.z}, {0, -1, 0});
-      b.apply(c.lower, {p.x, y, p.z}, {0, 1, 0});
+      const Vec3 at = studs({p.x, p.y, p.z});
+      b.apply(c.upper, at, {-d[0], -d[1], -d[2]});
+      b.apply(c.lower, at, d);
       b.end_column(ForceKind::Friction, ci);
     }
   }
   s.friction_columns = s.columns();
 
-  for (int ci = 0; ci < int(g.stacked.size()); ++ci) {
-    const auto& c = g.stacked[ci];
-    const double y = c.y * kStudsPerPlate;
-    // Normal forces at the corners of the overlap push the two bricks apart.
+  for (int ci = 0; ci < int(g.contacts.size()); ++ci) {
+    if (!taken[size_t(ci)]) continue;
+    const Contact& c = g.contacts[size_t(ci)];
+    if (c.joint) {  // any force and moment, both ways: free columns, like the support forces
+      const Vec3 at = studs(c.joint_point);
+      for (int a = 0; a < 3; ++a) {
+        const Vec3 e = unit(a, kJointUnit);
+        b.apply(c.upper, at, e);
+        b.apply(c.lower, at, {-e[0], -e[1], -e[2]});
+        b.end_column(ForceKind::Support, ci);
+      }
+      for (int a = 0; a < 3; ++a) {
+        const Vec3 e = unit(a, kJointUnit);
+        b.apply_moment(c.upper, e);
+        b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
+        b.end_column(ForceKind::Support, ci);
+      }
+      continue;
+    }
+    const int axis = axis_of(c.direction), f = kInPlane[axis][0], sd = kInPlane[axis][1];
+    const Vec3 d = unit(axis, sign_of(c.direction));
+    auto point = [&](double pf, double ps) {
+      Vec3 p{0, 0, 0};
+      p[size_t(axis)] = c.plane;
+      p[size_t(f)] = pf;
+      p[size_t(sd)] = ps;
+      return studs(p);
+    };
+    // Normal forces at the corners of the patch push the two parts apart.
     for (int corner = 0; corner < 4; ++corner) {
-      Vec3 p{double(corner & 1 ? c.overlap.x1 : c.overlap.x0), y,
-             double(corner & 2 ? c.overlap.z1 : c.overlap.z0)};
-      b.apply(c.upper, p, {0, 1, 0});
-      b.apply(c.lower, p, {0, -1, 0});
+      const Vec3 p =
+          point(corner & 1 ? c.patch.u1 : c.patch.u0, corner & 2 ? c.patch.v1 : c.patch.v0);
+      b.apply(c.upper, p, d);
+      b.apply(c.lower, p, {-d[0], -d[1], -d[2]});
       b.end_column(ForceKind::Normal, ci);
     }
-    // The horizontal support force of the knobs, where there are knobs or a ground to lean on.
-    if (c.snap() || c.lower == kGround) {
-      Vec3 mid{(c.overlap.x0 + c.overlap.x1) / 2.0, y, (c.overlap.z0 + c.overlap.z1) / 2.0};
-      for (Vec3 dir : {Vec3{1, 0, 0}, Vec3{0, 0, 1}}) {
-        b.apply(c.upper, mid, dir);
-        b.apply(c.lower, mid, {-dir.x, 0, -dir.z});
+    // The support force of the knobs in the plane, where there are knobs or a ground to lean on.
+    if (c.support) {
+      const Vec3 mid = point((c.patch.u0 + c.patch.u1) / 2, (c.patch.v0 + c.patch.v1) / 2);
+      for (int in_plane : {f, sd}) {
+        const Vec3 e = unit(in_plane);
+        b.apply(c.upper, mid, e);
+        b.apply(c.lower, mid, {-e[0], -e[1], -e[2]});
         b.end_column(ForceKind::Support, ci);
       }
     }
   }
 
-  for (int si = 0; si < int(g.sides.size()); ++si) {
-    const auto& sc = g.sides[si];
-    for (int corner = 0; corner < 4; ++corner) {
-      double y = (corner & 1 ? sc.y1 : sc.y0) * kStudsPerPlate;
-      double t = corner & 2 ? sc.t1 : sc.t0;
-      Vec3 p = sc.axis == 0 ? Vec3{double(sc.plane), y, t} : Vec3{t, y, double(sc.plane)};
-      Vec3 push = sc.axis == 0 ? Vec3{1, 0, 0} : Vec3{0, 0, 1};
-      b.apply(sc.positive, p, push);
-      b.apply(sc.negative, p, {-push.x, 0, -push.z});
-      b.end_column(ForceKind::Normal, -1 - si);
-    }
+  // b: gravity at each brick's centre and each carried part's, and external loads.
+  s.rhs.assign(size_t(s.rows), 0.0);
+  for (int i = 0; i < n; ++i)
+    if (const int body = s.body_of[size_t(i)]; body >= 0)
+      b.load(body, brick_centre[size_t(i)], {0, -a.bricks[size_t(i)].mass_g() * kGravity, 0});
+  for (const CarriedGroup& group : g.carried_groups) {
+    if (group.joins.empty()) continue;
+    const int body = s.body_of[size_t(group.joins.front())];
+    if (body >= 0) b.load(body, studs(group.centre), {0, -group.mass_g * kGravity, 0});
   }
-
-  // b: gravity at each brick's centre, and external loads, moved to the right-hand side.
-  s.rhs.assign(s.rows, 0.0);
-  for (int i = 0; i < n; ++i) s.rhs[EquilibriumSystem::row(i, 1)] = a.bricks[i].mass_g() * kGravity;
   for (const ExternalLoad& load : a.loads) {
     if (load.brick < 0 || load.brick >= n) continue;
-    const Brick& br = a.bricks[load.brick];
-    const Vec3 c = centre(br);
-    const Vec3 f{load.force_n[0] * 1e3, load.force_n[1] * 1e3,
-                 load.force_n[2] * 1e3};  // N -> g·m/s²
+    const int body = s.body_of[size_t(load.brick)];
+    if (body < 0) continue;
+    const Vec3 f{load.force_n[0] * 1e3, load.force_n[1] * 1e3, load.force_n[2] * 1e3};  // N -> mN
     std::vector<Vec3> points;
     if (load.spread_over_top_knobs) {
-      for (int x = br.min.x; x < br.max_x(); ++x)
-        for (int z = br.min.z; z < br.max_z(); ++z)
-          points.push_back({x + 0.5, br.top() * kStudsPerPlate, z + 0.5});
+      const WorldShape w = world_shape(a.bricks[size_t(load.brick)]);
+      for (const Connector& k : w.studs)
+        if (k.direction == kPlusY) points.push_back(studs(k.at));
+      if (points.empty()) {  // no knob on top: the middle of its top face
+        Box top = w.body.front();
+        for (const Box& bx : w.body)
+          if (bx.max[1] > top.max[1]) top = bx;
+        points.push_back(
+            studs({(top.min[0] + top.max[0]) / 2, top.max[1], (top.min[2] + top.max[2]) / 2}));
+      }
     } else {
       points.push_back({load.point[0], load.point[1] * kStudsPerPlate, load.point[2]});
     }
     const double share = 1.0 / double(points.size());
-    for (const Vec3& p : points) {
-      const Vec3 r{p.x - c.x, p.y - c.y, p.z - c.z};
-      const Vec3 fp{f.x * share, f.y * share, f.z * share};
-      const double wrench[6] = {fp.x,
-                                fp.y,
-                                fp.z,
-                                r.y * fp.z - r.z * fp.y,
-                                r.z * fp.x - r.x * fp.z,
-                                r.x * fp.y - r.y * fp.x};
-      for (int e = 0; e < 6; ++e) s.rhs[EquilibriumSystem::row(load.brick, e)] -= wrench[e];
-    }
+    for (const Vec3& p : points) b.load(body, p, {f[0] * share, f[1] * share, f[2] * share});
   }
   return s;
 }

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "core/assembly.h"
+#include "physics/connectivity.h"
 #include "physics/contact_graph.h"
 
 namespace lego::physics {
@@ -14,26 +15,31 @@ inline constexpr double kMaxFrictionLoad = 71.658 * kGravity;  // T, per contact
 enum class ForceKind : uint8_t { Friction, Normal, Support };
 
 // The equilibrium equations of PHYSICS.md, A·x = b: six rows per brick (force x, y, z, torque
-// x, y, z about the brick's centre), one column per contact force. Friction columns come first,
-// in the order of ContactGraph::friction_points, so column i is friction point i.
-// Stored column-major, built in one pass, so solvers can take the arrays as they are.
+// x, y, z about the brick's centre), one column per contact force; an assumed-rigid joint is six
+// free columns (a force and a moment passed between its two bricks). Fixed bricks, the ground and
+// floating bricks have no rows. Friction columns come first, in the order of
+// ContactGraph::friction_points, so column i is friction point i of the contacts taken. Stored
+// column-major, built in one pass, so solvers can take the arrays as they are.
 struct EquilibriumSystem {
   int rows = 0;
   std::vector<int> column_start{0};  // size columns + 1
   std::vector<int> row_index;
   std::vector<double> value;
   std::vector<ForceKind> kind;  // per column
-  std::vector<int> contact;     // per column: stacked contact, or -1 - side contact index
+  std::vector<int> contact;     // per column: index into ContactGraph::contacts
   std::vector<double> rhs;      // b, per row
+  std::vector<int> body_of;     // per brick: its block of rows, -1 when it has none
 
   int columns() const { return int(kind.size()); }
   int friction_columns = 0;
-  static constexpr int kEquations = 6;  // rows per brick
-  static int row(int brick, int equation) { return kEquations * brick + equation; }
-  static int brick_of(int row) { return row / kEquations; }
+  static constexpr int kEquations = 6;  // rows per body
+  static int row(int body, int equation) { return kEquations * body + equation; }
+  static int body_of_row(int row) { return row / kEquations; }
 };
 
 // Lengths in the equations are in studs (a plate is 0.4 stud): torques need true proportions.
-EquilibriumSystem build_equilibrium(const Assembly& assembly, const ContactGraph& graph);
+// Contacts with a floating brick are left out, and so are floating bricks' rows.
+EquilibriumSystem build_equilibrium(const Assembly& assembly, const ContactGraph& graph,
+                                    const Connectivity& connectivity);
 
 }  // namespace lego::physics

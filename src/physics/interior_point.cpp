@@ -32,6 +32,8 @@ constexpr double kRegularization = 1e-14;
 // that coarser predictor cost the globe sample 16 iterations instead of 13; 1e-7 and 1e-8 give
 // 13 (tower-2000 31 and 38 CG steps, box-2000 13 and 21). 1e-8, for the margin.
 constexpr double kCorrectorAccuracy = 1e-10, kPredictorAccuracy = 1e-8;
+// The worst relative residual or gap a run that could not reach its tolerance may still end at.
+constexpr double kAcceptable = 1e-6;
 
 double max_step(const Vec& v, const Vec& dv) {
   double alpha = 1.0;
@@ -191,6 +193,12 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
     if (trace) fmt::print(stderr, "setup {:.3f}s\n", since(entry));
+    // The best point so far: on degenerate models the linear algebra can lose its accuracy near
+    // the optimum (the normal matrix nearly singular), and the residual then only grows.
+    double best_worst = std::numeric_limits<double>::infinity();
+    struct Point {
+      Vec x, y, zl, zu;
+    } best{x, y, zl, zu};
     for (int it = 0; it < options.max_iterations; ++it) {
       result.iterations = it;
       Vec rp = b - times(A, x);
@@ -219,6 +227,21 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
       const bool stalled = mu < 1e-14 * (1 + std::abs(primal_obj));
       if (worst < options.tolerance || (stalled && worst < 10 * options.tolerance)) {
         result.converged = true;
+        break;
+      }
+      if (worst < best_worst) {
+        best_worst = worst;
+        best = {x, y, zl, zu};
+      }
+      // Directions this inexact no longer lead anywhere: the residual only grows from here.
+      if (rp.lpNorm<Eigen::Infinity>() / primal_scale >
+              1e4 * std::max(best_worst, options.tolerance) &&
+          best_worst < 1e-2) {
+        result.message = fmt::format(
+            "the interior point method lost accuracy at iteration {} (best relative residual and "
+            "gap {:.1e})",
+            it, best_worst);
+        if (trace) fmt::print(stderr, "{}\n", result.message);
         break;
       }
       // Θ = (zl/xl + zu/xu)⁻¹ and the normal matrix A·Θ·Aᵀ + δI.
@@ -350,6 +373,16 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
       y += ad * dy;
       zl += ad * dzl;
       zu += ad * dzu.cwiseProduct(has_up);
+    }
+    // A run that stopped short of the tolerance keeps its best point when that is within
+    // kAcceptable: C_M inherits about that relative error (scale_objective_options), inside the
+    // 1e-6 the analysis promises. Measured on the corpus's shopping centre: lost accuracy at
+    // iteration 70 with the best point at 1.6e-7.
+    if (!result.converged && best_worst <= kAcceptable) {
+      x = best.x, y = best.y, zl = best.zl, zu = best.zu;
+      result.converged = true;
+      result.message = fmt::format("converged to {:.1e} (not {:.0e}: {})", best_worst,
+                                   options.tolerance, result.message);
     }
     if (trace)
       fmt::print(stderr,

@@ -18,8 +18,8 @@ BrickKey key_of(const Brick& b) {
   return {b.min.x, b.min.y, b.min.z, b.size_x(), b.size_z(), b.height()};
 }
 
-// A column's identity across two systems: its contact (stacked or side, by the two bricks'
-// indices in `before`), its kind, and its place among the columns of that contact and kind
+// A column's identity across two systems: its contact (a snap or a face, its direction, by the two
+// bricks' indices in `before`), its kind, and its place among the columns of that contact and kind
 // (build_equilibrium orders them by the contact's geometry alone).
 using ColumnKey = std::array<int, 6>;
 
@@ -39,13 +39,8 @@ class ColumnKeys {
         valid = valid && brick[size_t(b)] >= 0;
         return brick[size_t(b)];
       };
-      int a, b, axis = 0, side = 0;
-      if (contact >= 0) {
-        a = map(g.stacked[size_t(contact)].lower), b = map(g.stacked[size_t(contact)].upper);
-      } else {
-        const SideContact& s = g.sides[size_t(-1 - contact)];
-        a = map(s.negative), b = map(s.positive), axis = s.axis, side = 1;
-      }
+      const Contact& c = g.contacts[size_t(contact)];
+      const int a = map(c.lower), b = map(c.upper), axis = c.direction, side = c.snap() ? 0 : 1;
       valid_[size_t(j)] = valid;
       keys_[size_t(j)] = {side, a, b, axis, int(sys.kind[size_t(j)]), n};
     }
@@ -58,12 +53,20 @@ class ColumnKeys {
   std::vector<char> valid_;
 };
 
+// The bounds take a body for a brick: assemblies with fixed bricks or assumed joints (read from
+// LDraw, never refined) are left to the whole analysis.
+bool one_body_per_brick(const EquilibriumSystem& sys) {
+  for (size_t i = 0; i < sys.body_of.size(); ++i)
+    if (sys.body_of[i] != int(i)) return false;
+  return true;
+}
+
 // The bricks a column's rows belong to (one or two; the ground has no rows).
 std::vector<std::vector<int>> bricks_of_columns(const EquilibriumSystem& sys) {
   std::vector<std::vector<int>> out(size_t(sys.columns()));
   for (int j = 0; j < sys.columns(); ++j)
     for (int k = sys.column_start[size_t(j)]; k < sys.column_start[size_t(j) + 1]; ++k) {
-      const int brick = EquilibriumSystem::brick_of(sys.row_index[size_t(k)]);
+      const int brick = EquilibriumSystem::body_of_row(sys.row_index[size_t(k)]);
       if (std::find(out[size_t(j)].begin(), out[size_t(j)].end(), brick) == out[size_t(j)].end())
         out[size_t(j)].push_back(brick);
     }
@@ -124,14 +127,22 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
   };
-  const EquilibriumSystem was = build_equilibrium(before, before_result.graph);
-  if (before_result.status != StabilityStatus::Solved ||
+  for (const Assembly* a : {&before, &after}) {
+    if (!a->carried.empty()) return finish();
+    for (const Brick& b : a->bricks)
+      if (b.pose || b.fixed) return finish();  // bricks are matched by their lattice cells
+  }
+  const EquilibriumSystem was =
+      build_equilibrium(before, before_result.graph, before_result.connectivity);
+  if (before_result.status != StabilityStatus::Solved || !one_body_per_brick(was) ||
       before_result.forces.size() != size_t(was.columns()) ||
       before_result.row_duals.size() != size_t(was.rows))
     return finish();
   const ContactGraph graph = ContactGraph::build(after, options.stability.ground);
-  if (!analyze_connectivity(int(after.bricks.size()), graph).all_grounded()) return finish();
-  const EquilibriumSystem sys = build_equilibrium(after, graph);
+  const Connectivity connectivity = analyze_connectivity(int(after.bricks.size()), graph);
+  if (!connectivity.all_grounded()) return finish();
+  const EquilibriumSystem sys = build_equilibrium(after, graph, connectivity);
+  if (!one_body_per_brick(sys)) return finish();
   const int n_after = int(after.bricks.size()), n_before = int(before.bricks.size());
 
   // Bricks matched by place and shape; the unmatched ones (and, through the columns of

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include "physics/clp_lp.h"
 #include "physics/scaled_lp.h"
@@ -35,7 +36,8 @@ void rank_weakest(const EquilibriumSystem& sys, const ContactGraph& g,
     total += d;
   }
   for (auto [contact, sum] : by_contact)
-    r.weakest.push_back({contact, g.stacked[contact].lower, g.stacked[contact].upper, sum / total});
+    r.weakest.push_back({contact, g.contacts[size_t(contact)].lower,
+                         g.contacts[size_t(contact)].upper, sum / total});
   // Shares equal to the solver's accuracy rank in contact order: an interior point solution
   // splits the duals evenly between symmetric contacts, and the last bits of the split depend
   // on how the BLAS summed (its thread count), which must not decide what comes first.
@@ -44,10 +46,30 @@ void rank_weakest(const EquilibriumSystem& sys, const ContactGraph& g,
                    [&](const WeakContact& a, const WeakContact& b) { return key(a) > key(b); });
 }
 
-bool equilibrium_exists(const EquilibriumSystem& sys, const StabilityOptions& o) {
-  LpData lp = equilibrium_lp(sys, kInfinity, 1.0 / kMaxFrictionLoad, kInfinity);
-  return solve_lp(lp, LpMethod::DualSimplex, o.presolve, o.scaling, o.max_seconds).outcome !=
-         LpOutcome::Infeasible;
+// Whether any forces at all balance every body, friction unlimited; when none do, the bodies
+// that cannot be held: min Σ|s| over A·x + s = b puts the smallest virtual force where the
+// equations fail (weights in g·m/s², so a body needs one where s > 0).
+std::optional<std::vector<int>> unbalanced_bodies(const EquilibriumSystem& sys,
+                                                  const StabilityOptions& o) {
+  auto make = [&](double bound) {
+    LpData lp = equilibrium_lp(sys, kInfinity, 1.0 / kMaxFrictionLoad, bound);
+    for (int r = 0; r < sys.rows; ++r)
+      for (double sign : {1.0, -1.0}) lp.add_column(0, kInfinity, 1, {{r, sign}});
+    return lp;
+  };
+  std::string message;
+  const LpSolution s = solve_supports_boxed(make, o, message);
+  if (s.outcome != LpOutcome::Optimal) return std::nullopt;
+  double scale = 1e-9;
+  for (double b : sys.rhs) scale = std::max(scale, std::abs(b) / kMaxFrictionLoad);
+  std::vector<int> bodies;
+  for (int r = 0; r < sys.rows; ++r) {
+    const size_t j = size_t(sys.columns() + 2 * r);
+    if (s.x[j] + s.x[j + 1] > 1e-6 * scale &&
+        (bodies.empty() || bodies.back() != EquilibriumSystem::body_of_row(r)))
+      bodies.push_back(EquilibriumSystem::body_of_row(r));
+  }
+  return bodies;
 }
 
 void set_failure(StabilityResult& r, const LpSolution& s) {
@@ -67,10 +89,15 @@ void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, Stabi
     r.cm = kMaxFrictionLoad;  // no friction needed anywhere
     return;
   }
-  if (w < kConfirmBelow && !equilibrium_exists(sys, o)) {
-    r.status = StabilityStatus::NoEquilibrium;
-    r.message = "no force distribution balances every brick";
-    return;
+  if (w < kConfirmBelow) {
+    if (auto bodies = unbalanced_bodies(sys, o); bodies && !bodies->empty()) {
+      r.status = StabilityStatus::NoEquilibrium;
+      r.message = "no force distribution balances every brick";
+      for (size_t i = 0; i < sys.body_of.size(); ++i)
+        if (std::binary_search(bodies->begin(), bodies->end(), sys.body_of[i]))
+          r.unbalanced.push_back(int(i));
+      return;
+    }
   }
   r.status = StabilityStatus::Solved;
   r.cm = kMaxFrictionLoad * (1 - 1 / w);
@@ -114,6 +141,10 @@ void solve_max_min(const EquilibriumSystem& sys, const StabilityOptions& o, Stab
   if (s.outcome == LpOutcome::Infeasible) {
     r.status = StabilityStatus::NoEquilibrium;
     r.message = "no force distribution balances every brick";
+    if (auto bodies = unbalanced_bodies(sys, o))
+      for (size_t i = 0; i < sys.body_of.size(); ++i)
+        if (std::binary_search(bodies->begin(), bodies->end(), sys.body_of[i]))
+          r.unbalanced.push_back(int(i));
     return;
   }
   if (s.outcome != LpOutcome::Optimal) return set_failure(r, s);
@@ -142,7 +173,7 @@ void brick_capacity(const Assembly& a, const EquilibriumSystem& sys, const Stabi
     return;
   }
   for (int j = 0; j < sys.friction_columns; ++j) {
-    int brick = r.graph.stacked[sys.contact[j]].upper;
+    int brick = r.graph.contacts[size_t(sys.contact[j])].upper;
     r.brick_capacity[brick] = std::min(r.brick_capacity[brick], kMaxFrictionLoad * (1 - s.x[j]));
   }
 }
@@ -174,13 +205,13 @@ StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) 
   r.connectivity = analyze_connectivity(int(a.bricks.size()), r.graph);
   r.stats.graph_seconds = seconds_since(start);
   if (a.bricks.empty()) return r;
-  if (!r.connectivity.all_grounded()) {
-    r.status = StabilityStatus::Floating;
+  start = std::chrono::steady_clock::now();
+  EquilibriumSystem sys = build_equilibrium(a, r.graph, r.connectivity);
+  r.stats.build_seconds = seconds_since(start);
+  if (sys.rows == 0) {  // nothing stands that is not the ground itself
+    r.status = r.connectivity.floating.empty() ? StabilityStatus::Empty : StabilityStatus::Floating;
     return r;
   }
-  start = std::chrono::steady_clock::now();
-  EquilibriumSystem sys = build_equilibrium(a, r.graph);
-  r.stats.build_seconds = seconds_since(start);
   start = std::chrono::steady_clock::now();
   if (o.form == LpForm::Scaled)
     solve_scaled(sys, o, r);

@@ -11,8 +11,8 @@ namespace lego::physics {
 
 enum class StabilityStatus {
   Solved,            // C_M is a number (stable when > 0)
-  Empty,             // no bricks
-  Floating,          // a component does not touch the ground: no LP (PHYSICS.md)
+  Empty,             // no bricks (or only the ground's own)
+  Floating,          // nothing but the ground stands: every brick floats, no LP
   NoEquilibrium,     // connected, but no forces balance it (C_M = -inf)
   IterationLimit,    // the solver stopped on its iteration or time limit
   NumericalTrouble,  // the solver failed; no number is given
@@ -45,7 +45,7 @@ struct StabilityOptions {
 
 // A pair of bricks whose friction points bind at the optimum, with its share of the duals.
 struct WeakContact {
-  int contact = 0;  // index into ContactGraph::stacked
+  int contact = 0;  // index into ContactGraph::contacts
   int lower = kGround, upper = 0;
   double share = 0;  // of the sum of all binding duals, 0..1
 };
@@ -61,6 +61,8 @@ struct StabilityResult {
   double cm = 0;                       // C_M in g·m/s² (valid when Solved)
   std::vector<WeakContact> weakest;    // ranked by share, largest first
   std::vector<double> brick_capacity;  // per brick, g·m/s² (when asked for and Solved)
+  // With NoEquilibrium: the bricks whose rigid bodies no forces can hold (they tip or hang).
+  std::vector<int> unbalanced;
   ContactGraph graph;
   Connectivity connectivity;
   LpStats stats;
@@ -72,12 +74,15 @@ struct StabilityResult {
 
   double cm_newton() const { return cm / 1000.0; }
   double cm_gf() const { return cm / kGravity; }
+  // Floating parts are left out of the LP (PHYSICS.md): C_M is that of what stands, and a model
+  // with floating parts is not stable whatever it is.
   bool stable(double min_cm_gf = 0) const {
-    return status == StabilityStatus::Solved && cm_gf() > min_cm_gf;
+    return status == StabilityStatus::Solved && cm_gf() > min_cm_gf && connectivity.all_grounded();
   }
 };
 
-// The paper's force-based analysis (section 6, PHYSICS.md): connectivity first, then the LP.
+// The paper's force-based analysis (section 6, PHYSICS.md): connectivity first, then the LP over
+// everything that reaches the ground.
 StabilityResult analyze_stability(const Assembly& assembly, const StabilityOptions& options = {});
 
 }  // namespace lego::physics

@@ -1,10 +1,14 @@
 #include "report/audit.h"
 
 #include <fmt/format.h>
+#include <charconv>
 #include <chrono>
-#include <regex>
+#include <cmath>
+#include <limits>
 
 #include "core/error.h"
+#include "ldraw/writer.h"
+#include "physics/world_shape.h"
 
 namespace lego::report {
 namespace {
@@ -18,6 +22,24 @@ physics::StabilityOptions with_capacity(physics::StabilityOptions o, bool capaci
   return o;
 }
 
+// A whole decimal number, in range.
+std::optional<int> whole_number(std::string_view text) {
+  int v = 0;
+  if (text.empty() || text.size() > 9) return std::nullopt;
+  auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || p != text.data() + text.size() || v < 0) return std::nullopt;
+  return v;
+}
+
+// How many studs a load on top of the brick is shared over (at least one).
+int top_studs(const Brick& b) {
+  int up = 0;
+  const Pose pose = pose_of(b);
+  for (const Connector& s : b.type->shape.studs)
+    if (lattice_direction(pose.turn(s.direction)) == kPlusY) ++up;
+  return std::max(up, 1);
+}
+
 // Places each load on the bricks it names; returns a note per load, or throws InputError.
 std::vector<std::string> apply_loads(Audit& audit, const std::vector<LoadSpec>& loads) {
   std::vector<std::string> notes;
@@ -25,32 +47,29 @@ std::vector<std::string> apply_loads(Audit& audit, const std::vector<LoadSpec>& 
   for (const LoadSpec& spec : loads) {
     std::vector<int> targets;
     for (int i = 0; i < int(assembly.bricks.size()); ++i) {
-      const auto& part = audit.model.parts[audit.conversion.brick_part[i]];
+      const auto& part = audit.model.parts[audit.conversion.brick_part[size_t(i)]];
       bool hit = false;
       switch (spec.target) {
         case LoadSpec::Target::Line:
-          hit = part.line == spec.number &&
-                (spec.file.empty() || std::filesystem::path(part.file).filename() == spec.file ||
-                 part.file == spec.file);
+          hit = spec.line.names(part, audit.model.source);
           break;
         case LoadSpec::Target::Step:
           hit = part.step == spec.number;
           break;
-        case LoadSpec::Target::Submodel: {
+        case LoadSpec::Target::Submodel:
           hit = normalize_part_name(part.submodel) == normalize_part_name(spec.name);
           break;
-        }
       }
       if (hit) targets.push_back(i);
     }
     if (targets.empty())
-      throw InputError(audit.file, 0, fmt::format("--load {}: names no analysed brick", spec.text));
+      throw InputError(audit.file, 0,
+                       fmt::format("--load {}: names no part analysed as structure", spec.text));
     // The weight is shared by knob count, so a step's load sits evenly on all its top knobs.
     int knobs = 0;
-    for (int i : targets) knobs += assembly.bricks[i].size_x() * assembly.bricks[i].size_z();
+    for (int i : targets) knobs += top_studs(assembly.bricks[size_t(i)]);
     for (int i : targets) {
-      const Brick& b = assembly.bricks[i];
-      double share = double(b.size_x() * b.size_z()) / knobs;
+      const double share = double(top_studs(assembly.bricks[size_t(i)])) / knobs;
       assembly.loads.push_back({i, {0, -weight_newton(spec.grams) * share, 0}, true, {}});
     }
     notes.push_back(fmt::format("{} g on the top knobs of {} brick{}", spec.grams, targets.size(),
@@ -63,7 +82,7 @@ Verdict verdict_of(const physics::StabilityResult& r, double min_cm_gf) {
   using physics::StabilityStatus;
   switch (r.status) {
     case StabilityStatus::Solved:
-      return r.cm_gf() > min_cm_gf ? Verdict::Stable : Verdict::Unstable;
+      return r.stable(min_cm_gf) ? Verdict::Stable : Verdict::Unstable;
     case StabilityStatus::Floating:
     case StabilityStatus::NoEquilibrium:
       return Verdict::Unstable;
@@ -71,54 +90,206 @@ Verdict verdict_of(const physics::StabilityResult& r, double min_cm_gf) {
     case StabilityStatus::NumericalTrouble:
       return Verdict::Undecided;
     case StabilityStatus::Empty:
-      return Verdict::NothingToAnalyse;
+      return r.connectivity.all_grounded() ? Verdict::NothingToAnalyse : Verdict::Unstable;
   }
   return Verdict::Undecided;
 }
 
+// The parts the user fixed, as indices into Model::parts.
+std::vector<size_t> fixed_parts(const ldraw::Model& model, const std::vector<LineSpec>& specs,
+                                const std::string& file) {
+  std::vector<size_t> out;
+  for (const LineSpec& spec : specs) {
+    bool any = false;
+    for (size_t i = 0; i < model.parts.size(); ++i) {
+      const auto& p = model.parts[i];
+      if (spec.names(p, model.source)) {
+        out.push_back(i);
+        any = true;
+      }
+    }
+    if (!any)
+      throw InputError(file, 0,
+                       fmt::format("--ground-part {}{}{}: no part is placed by that line",
+                                   spec.file, spec.file.empty() ? "" : ":", spec.line));
+  }
+  return out;
+}
+
+// PHYSICS.md: a part placed off the stud lattice is carried. Where a part's studs and receptacles
+// meet nothing that stands, that is what happened to it (an ornament on a half-stud offset, a
+// door on its hinge pins, a roof whose supports are carried): such parts become carried, and
+// whether they touch what stands decides if they are held or float.
+void carry_unconnected(Audit& audit, physics::GroundMode ground) {
+  auto& conversion = audit.conversion;
+  Assembly& a = conversion.assembly;
+  const auto graph = physics::ContactGraph::build(a, ground);
+  const auto connectivity = physics::analyze_connectivity(int(a.bricks.size()), graph);
+  if (connectivity.floating.empty()) return;
+  std::vector<char> floating(a.bricks.size(), 0);
+  for (int b : connectivity.floating) floating[size_t(b)] = 1;
+  std::vector<Brick> bricks;
+  std::vector<size_t> brick_part;
+  for (size_t i = 0; i < a.bricks.size(); ++i) {
+    const Brick& b = a.bricks[i];
+    if (!floating[i]) {
+      bricks.push_back(b);
+      brick_part.push_back(conversion.brick_part[i]);
+      continue;
+    }
+    CarriedPart c;
+    c.part = b.type->part;
+    c.reason = "its studs and receptacles meet nothing that stands (off the lattice)";
+    c.color = b.color;
+    c.source = b.source;
+    c.mass_g = b.mass_g();
+    c.mass_source = b.type->mass_source;
+    c.body = b.type->shape.body;
+    c.outline = b.type->shape.outline;
+    c.pose = pose_of(b);
+    a.carried.push_back(std::move(c));
+    conversion.carried_part.push_back(conversion.brick_part[i]);
+  }
+  a.bricks = std::move(bricks);
+  conversion.brick_part = std::move(brick_part);
+}
+
+// A part left out has no body, but by LDraw's convention its origin is its top: one at or below
+// the lowest face of everything known reaches at least a plate lower, and the ground is taken
+// there, so that nothing is taken to stand on the ground when it stands on an unknown part.
+void lower_ground_under_unknown_parts(Audit& audit) {
+  Assembly& a = audit.conversion.assembly;
+  if (audit.conversion.skipped.empty() || a.bricks.empty()) return;
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const Brick& b : a.bricks)
+    for (const Box& box : physics::world_shape(b).body) lowest = std::min(lowest, box.min[1]);
+  for (const CarriedPart& c : a.carried)
+    for (const Vec3& p : physics::world_outline(c)) lowest = std::min(lowest, p[1]);
+  double ground = lowest;
+  for (const auto& s : audit.conversion.skipped) {
+    const double top = -audit.model.parts[s.part].transform.pos[1] - a.origin_ldu[1];
+    if (top <= lowest + 0.5) ground = std::min(ground, top - kLduPerPlate);
+  }
+  if (ground < lowest) a.ground_height = ground;
+}
+
+// The model after `step`: its bricks and carried parts up to then, on the finished model's ground.
+StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options) {
+  const Assembly& whole = audit.conversion.assembly;
+  Assembly partial;
+  partial.origin_ldu = whole.origin_ldu;
+  partial.ground_height = audit.stability.graph.ground_height;
+  std::vector<int> index(whole.bricks.size(), -1);
+  for (int i = 0; i < int(whole.bricks.size()); ++i)
+    if (whole.bricks[size_t(i)].source.step <= step) {
+      index[size_t(i)] = int(partial.bricks.size());
+      partial.bricks.push_back(whole.bricks[size_t(i)]);
+    }
+  for (const CarriedPart& c : whole.carried)
+    if (c.source.step <= step) partial.carried.push_back(c);
+  for (const auto& load : whole.loads)
+    if (index[size_t(load.brick)] >= 0)
+      partial.loads.push_back(
+          {index[size_t(load.brick)], load.force_n, load.spread_over_top_knobs, load.point});
+  StepAudit s;
+  s.step = step;
+  s.bricks = int(partial.bricks.size());
+  if (partial.bricks.empty() && partial.carried.empty()) {
+    s.stable = true;
+    return s;
+  }
+  const auto r = physics::analyze_stability(partial, options.stability);
+  s.status = r.status;
+  s.cm_gf = r.cm_gf();
+  s.floating = int(r.connectivity.floating.size() + r.connectivity.floating_carried.size());
+  const Verdict v = verdict_of(r, options.min_cm_gf);
+  s.stable = v == Verdict::Stable || v == Verdict::NothingToAnalyse;
+  return s;
+}
+
 }  // namespace
 
+bool LineSpec::names(const ldraw::PlacedPart& part, const std::string& model_file) const {
+  if (part.line != line) return false;
+  if (file.empty()) return part.file == model_file;
+  return std::filesystem::path(part.file).filename() == file || part.file == file;
+}
+
+LineSpec parse_line_spec(const std::string& text, const std::string& option) {
+  LineSpec spec;
+  const auto colon = text.rfind(':');
+  const std::string_view number = colon == std::string::npos
+                                      ? std::string_view(text)
+                                      : std::string_view(text).substr(colon + 1);
+  auto line = whole_number(number);
+  if (!line || *line == 0 || (colon != std::string::npos && colon == 0))
+    throw InputError("", 0,
+                     fmt::format("{} '{}': expected LINE or FILE:LINE (a line number "
+                                 "from 1)",
+                                 option, text.size() > 80 ? text.substr(0, 80) + "..." : text));
+  spec.line = *line;
+  if (colon != std::string::npos) spec.file = text.substr(0, colon);
+  return spec;
+}
+
 LoadSpec parse_load_spec(const std::string& text) {
-  static const std::regex pattern(
-      R"(^(?:(step|submodel):(.+)|(?:(.+):)?(\d+))=([0-9]*\.?[0-9]+(?:[eE][-+]?\d+)?)$)");
-  std::smatch m;
-  if (!std::regex_match(text, m, pattern))
-    throw InputError(
-        "", 0,
-        fmt::format("--load '{}': expected LINE=GRAMS, FILE:LINE=GRAMS, step:K=GRAMS or "
-                    "submodel:NAME=GRAMS",
-                    text));
+  const std::string shown = text.size() > 80 ? text.substr(0, 80) + "..." : text;
+  auto fail = [&](const std::string& why) {
+    return InputError("", 0,
+                      fmt::format("--load '{}': {}; expected LINE=GRAMS, FILE:LINE=GRAMS, "
+                                  "step:K=GRAMS or submodel:NAME=GRAMS",
+                                  shown, why));
+  };
+  const auto equals = text.rfind('=');
+  if (equals == std::string::npos || equals == 0) throw fail("no '=GRAMS'");
+  const std::string target = text.substr(0, equals), grams = text.substr(equals + 1);
   LoadSpec spec;
   spec.text = text;
-  spec.grams = std::stod(m[5]);
-  if (m[1] == "step") {
+  double g = 0;
+  auto [p, ec] = std::from_chars(grams.data(), grams.data() + grams.size(), g);
+  if (grams.empty() || ec != std::errc() || p != grams.data() + grams.size() || !std::isfinite(g) ||
+      g < 0)
+    throw fail("the weight must be a finite number of grams, 0 or more");
+  spec.grams = g;
+  if (target.starts_with("step:")) {
     spec.target = LoadSpec::Target::Step;
-    try {
-      spec.number = std::stoi(m[2]);
-    } catch (const std::exception&) {
-      throw InputError("", 0, fmt::format("--load '{}': the step must be a number", text));
-    }
-  } else if (m[1] == "submodel") {
+    auto k = whole_number(std::string_view(target).substr(5));
+    if (!k) throw fail("the step must be a whole number");
+    spec.number = *k;
+  } else if (target.starts_with("submodel:")) {
     spec.target = LoadSpec::Target::Submodel;
-    spec.name = m[2];
+    spec.name = target.substr(9);
+    if (spec.name.empty()) throw fail("no submodel name");
   } else {
-    spec.file = m[3];
-    spec.number = std::stoi(m[4]);
+    try {
+      spec.line = parse_line_spec(target, "--load");
+    } catch (const InputError&) {
+      throw fail("the line must be a whole number from 1");
+    }
   }
   return spec;
 }
 
 std::string describe_brick(const Audit& audit, int brick) {
   if (brick == physics::kGround) return "the ground";
-  const Brick& b = audit.conversion.assembly.bricks[brick];
-  auto t = ldraw::brick_transform(b, audit.conversion.assembly.origin_ldu);
+  const Brick& b = audit.conversion.assembly.bricks[size_t(brick)];
+  const auto& pos = audit.model.parts[audit.conversion.brick_part[size_t(brick)]].transform.pos;
   return fmt::format("{}:{} {} {} at ({:g}, {:g}, {:g})",
                      std::filesystem::path(b.source.file).filename().string(), b.source.line,
-                     b.type->part, ldraw::ColorTable::standard().name(b.color), t.pos[0], t.pos[1],
-                     t.pos[2]);
+                     b.type->part, ldraw::ColorTable::standard().name(b.color), pos[0], pos[1],
+                     pos[2]);
 }
 
-Audit audit_file(const std::filesystem::path& path, const AuditOptions& options) {
+std::string describe_carried(const Audit& audit, int carried) {
+  const CarriedPart& c = audit.conversion.assembly.carried[size_t(carried)];
+  const auto& pos = audit.model.parts[audit.conversion.carried_part[size_t(carried)]].transform.pos;
+  return fmt::format("{}:{} {} {} at ({:g}, {:g}, {:g})",
+                     std::filesystem::path(c.source.file).filename().string(), c.source.line,
+                     c.part, ldraw::ColorTable::standard().name(c.color), pos[0], pos[1], pos[2]);
+}
+
+Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
+                 parts::PartLibrary& library) {
   Audit audit;
   audit.file = path.string();
   auto start = std::chrono::steady_clock::now();
@@ -133,8 +304,12 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options)
     audit.fatal = fmt::format("{}: error: no part in the model", audit.file);
     return audit;
   }
-  audit.conversion =
-      ldraw::to_assembly(audit.model, BrickCatalog::standard(), options.read.library_dirs);
+  start = std::chrono::steady_clock::now();
+  audit.conversion = parts::to_assembly(audit.model, library,
+                                        fixed_parts(audit.model, options.ground_parts, audit.file));
+  lower_ground_under_unknown_parts(audit);
+  carry_unconnected(audit, options.stability.ground);
+  audit.parts_seconds = seconds_since(start);
   if (audit.conversion.assembly.bricks.empty()) {
     audit.verdict = Verdict::NothingToAnalyse;
     return audit;
@@ -143,30 +318,14 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options)
   audit.stability = physics::analyze_stability(
       audit.conversion.assembly, with_capacity(options.stability, options.brick_capacity));
   audit.verdict = verdict_of(audit.stability, options.min_cm_gf);
-
   if (options.steps) {
-    const Assembly& whole = audit.conversion.assembly;
     int last = 0;
-    for (const Brick& b : whole.bricks) last = std::max(last, b.source.step);
+    for (const Brick& b : audit.conversion.assembly.bricks) last = std::max(last, b.source.step);
+    for (const CarriedPart& c : audit.conversion.assembly.carried)
+      last = std::max(last, c.source.step);
     for (int step = 1; step <= last; ++step) {
-      Assembly partial;
-      partial.origin_ldu = whole.origin_ldu;
-      partial.ground_y =
-          whole.ground_level();  // the finished model's ground, not the partial one's
-      std::vector<int> index(whole.bricks.size(), -1);
-      for (int i = 0; i < int(whole.bricks.size()); ++i)
-        if (whole.bricks[i].source.step <= step) {
-          index[i] = int(partial.bricks.size());
-          partial.bricks.push_back(whole.bricks[i]);
-        }
-      for (const auto& load : whole.loads)
-        if (index[load.brick] >= 0)
-          partial.loads.push_back(
-              {index[load.brick], load.force_n, load.spread_over_top_knobs, load.point});
-      if (partial.bricks.empty()) continue;
-      auto r = physics::analyze_stability(partial, options.stability);
-      StepAudit s{step, int(partial.bricks.size()), r.status, r.cm_gf(),
-                  verdict_of(r, options.min_cm_gf) == Verdict::Stable};
+      StepAudit s = audit_step(audit, step, options);
+      if (s.bricks == 0 && s.status == physics::StabilityStatus::Empty && s.stable) continue;
       if (!s.stable && !audit.first_failing_step) audit.first_failing_step = step;
       audit.steps.push_back(s);
     }

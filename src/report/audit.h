@@ -1,37 +1,50 @@
 #pragma once
-// The audit of one LDraw model: its parts, the bricks they became, connectivity, stability and,
-// on request, every build step. brickcheck prints it; legolize checks its own output with it.
+// The audit of one LDraw model: its parts, what each became (analysed, carried, left out),
+// connectivity, stability and, on request, every build step. brickcheck prints it; legolize
+// checks its own output with it.
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "ldraw/assembly_builder.h"
 #include "ldraw/reader.h"
+#include "parts/assembly_builder.h"
+#include "parts/part_library.h"
 #include "physics/stability.h"
 
 namespace lego::report {
 
+// A type-1 line a builder points at: "LINE" in the model's own file, or "FILE:LINE".
+struct LineSpec {
+  std::string file;  // "" = the model's own file
+  int line = 0;
+  // Whether `part`, placed in the model read from `model_file`, is the one named.
+  bool names(const ldraw::PlacedPart& part, const std::string& model_file) const;
+};
+
 // An external weight (paper section 7) named the way a builder points at a model.
 struct LoadSpec {
   enum class Target { Line, Step, Submodel } target = Target::Line;
-  std::string file;  // Line: the file holding the line ("" = the model's own file)
-  int number = 0;    // Line: line number; Step: step number
+  LineSpec line;     // Line
+  int number = 0;    // Step: step number
   std::string name;  // Submodel: its name
   double grams = 0;
   std::string text;  // as given, for messages
 };
 // Parses "LINE=GRAMS", "FILE:LINE=GRAMS", "step:K=GRAMS" or "submodel:NAME=GRAMS".
-// Throws InputError on anything else.
+// Throws InputError on anything else (a number out of range, a weight that is not finite).
 LoadSpec parse_load_spec(const std::string& text);
+// Parses "LINE" or "FILE:LINE" (--ground-part). Throws InputError on anything else.
+LineSpec parse_line_spec(const std::string& text, const std::string& option);
 
 struct AuditOptions {
   ldraw::ReadOptions read;
   physics::StabilityOptions stability;
   std::vector<LoadSpec> loads;
-  double min_cm_gf = 0;         // the stability threshold
-  bool steps = false;           // check the assembly after every build step
-  bool brick_capacity = false;  // for heat maps
+  std::vector<LineSpec> ground_parts;  // parts the user fixes (--ground-part)
+  double min_cm_gf = 0;                // the stability threshold
+  bool steps = false;                  // check the assembly after every build step
+  bool brick_capacity = false;         // for heat maps
 };
 
 struct StepAudit {
@@ -39,35 +52,44 @@ struct StepAudit {
   int bricks = 0;
   physics::StabilityStatus status = physics::StabilityStatus::Empty;
   double cm_gf = 0;
+  int floating = 0;  // bricks and carried parts that reach no ground after this step
   bool stable = false;
 };
 
 enum class Verdict {
-  Stable,            // every analysed brick connected, grounded, C_M above the threshold
-  Unstable,          // C_M at or below the threshold, floating bricks, or no equilibrium
+  Stable,            // everything analysed connected, grounded, C_M above the threshold
+  Unstable,          // C_M at or below the threshold, floating parts, or no equilibrium
   Undecided,         // the solver gave up (iteration limit, numerical trouble)
-  NothingToAnalyse,  // parts, but none became a brick
+  NothingToAnalyse,  // parts, but none analysed as structure (all carried or unknown)
   Unreadable,        // the file could not be read or is not an analysable LDraw model
 };
 
 struct Audit {
   std::string file;
   ldraw::Model model;
-  ldraw::AssemblyConversion conversion;
+  parts::AssemblyConversion conversion;
   physics::StabilityResult stability;
   std::vector<StepAudit> steps;
   std::optional<int> first_failing_step;
   std::vector<std::string> load_notes;  // where each load went
   Verdict verdict = Verdict::Unreadable;
   std::string fatal;  // why the file is unreadable
-  double parse_seconds = 0;
+  double parse_seconds = 0, parts_seconds = 0;
 
   bool stable() const { return verdict == Verdict::Stable; }
+  // Whether the verdict rests on assumptions: carried parts, or parts left out.
+  bool assumes() const {
+    return !conversion.assembly.carried.empty() || !conversion.skipped.empty();
+  }
 };
 
-Audit audit_file(const std::filesystem::path& path, const AuditOptions& options);
+// `library` caches part knowledge across the files of a run.
+Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
+                 parts::PartLibrary& library);
 
-// "3001 Red at (0, -24, 0)" — how reports name a brick, with its LDraw position.
+// "tower.ldr:12 3001 Red at (0, -24, 0)": how reports name a brick, with its LDraw position.
 std::string describe_brick(const Audit& audit, int brick);
+// The same for a carried part (an index into Assembly::carried).
+std::string describe_carried(const Audit& audit, int carried);
 
 }  // namespace lego::report

@@ -49,9 +49,62 @@ std::string render_heatmap(const Assembly& assembly, const physics::StabilityRes
 }
 
 std::string render_heatmap(const Audit& a) {
-  return render_heatmap(a.conversion.assembly, a.stability,
-                        "Stability heat map of " + (a.model.title.empty() ? a.file : a.model.title),
-                        "brickcheck", [&](int brick) { return describe_brick(a, brick); });
+  // Every placed part where the model puts it: analysed bricks by their capacity, the rest in
+  // colours that say what they are.
+  constexpr int kCarried = 71, kGroundColour = 72, kFloating = 0, kLeftOut = 15;
+  const auto& r = a.stability;
+  const auto& capacity = r.brick_capacity;
+  std::vector<int> colour(a.model.parts.size(), kLeftOut);
+  for (size_t i = 0; i < a.conversion.carried_part.size(); ++i)
+    colour[a.conversion.carried_part[i]] = kCarried;
+  for (size_t b = 0; b < a.conversion.brick_part.size(); ++b)
+    colour[a.conversion.brick_part[b]] = b < r.graph.fixed.size() && r.graph.fixed[b]
+                                             ? kGroundColour
+                                         : b < capacity.size() ? heat_color(capacity[b])
+                                                               : kCarried;
+  for (int b : r.connectivity.floating) colour[a.conversion.brick_part[size_t(b)]] = kFloating;
+  for (int c : r.connectivity.floating_carried)
+    colour[a.conversion.carried_part[size_t(c)]] = kFloating;
+
+  const std::string title =
+      "Stability heat map of " + (a.model.title.empty() ? a.file : a.model.title);
+  std::string out = fmt::format(
+      "0 {}\n0 Name: heatmap.ldr\n0 Author: brickcheck\n"
+      "0 !LDRAW_ORG Unofficial_Model\n\n",
+      title);
+  out +=
+      "0 // Colours by the share of the friction limit T a brick's worst knob uses: red >= 100%\n"
+      "0 // (overloaded), orange >= 50%, light orange >= 20%, yellow >= 5%, lime >= 0.5%,\n"
+      "0 // green below. Light grey: carried (its weight counted, its connections assumed) or\n"
+      "0 // not computed; dark grey: the ground; black: floating; white: left out.\n";
+  if (r.status == physics::StabilityStatus::Solved)
+    out += fmt::format("0 // C_M = {:.3f} gf\n", r.cm_gf());
+  for (size_t i = 0; i < r.weakest.size() && i < 5; ++i) {
+    const auto& wk = r.weakest[i];
+    out += fmt::format("0 // weakest {}: {} holding {} ({:.1f}% of the binding duals)\n", i + 1,
+                       describe_brick(a, wk.lower), describe_brick(a, wk.upper), 100 * wk.share);
+  }
+  for (const auto& group : r.graph.carried_groups) {
+    if (!group.assumed_joint()) continue;
+    std::string through, joins;
+    for (int c : group.carried) through += (through.empty() ? "" : ", ") + describe_carried(a, c);
+    for (int b : group.joins) joins += (joins.empty() ? "" : "; ") + describe_brick(a, b);
+    out += fmt::format("0 // assumed rigid joint through {} joins {}\n", through, joins);
+  }
+  auto number = [](double v) {
+    std::string s = fmt::format("{:.4f}", v);
+    while (s.back() == '0') s.pop_back();
+    if (s.back() == '.') s.pop_back();
+    return s == "-0" ? std::string("0") : s;
+  };
+  for (size_t i = 0; i < a.model.parts.size(); ++i) {
+    const auto& p = a.model.parts[i];
+    out += fmt::format("1 {} {} {} {}", colour[i], number(p.transform.pos[0]),
+                       number(p.transform.pos[1]), number(p.transform.pos[2]));
+    for (double m : p.transform.rot) out += " " + number(m);
+    out += " " + p.reference + "\n";
+  }
+  return out;
 }
 
 }  // namespace lego::report

@@ -1,5 +1,7 @@
 #include <filesystem>
 
+#include "ldraw/writer.h"
+
 #include "report/render.h"
 
 namespace lego::report {
@@ -9,13 +11,23 @@ using nlohmann::json;
 
 json brick_json(const Audit& a, int brick) {
   if (brick == physics::kGround) return {{"ground", true}, {"part", "baseplate"}};
-  const Brick& b = a.conversion.assembly.bricks[brick];
-  auto t = ldraw::brick_transform(b, a.conversion.assembly.origin_ldu);
+  const Brick& b = a.conversion.assembly.bricks[size_t(brick)];
+  const auto& pos = a.model.parts[a.conversion.brick_part[size_t(brick)]].transform.pos;
   return {{"file", b.source.file},
           {"line", b.source.line},
           {"part", b.type->part},
           {"color", b.color},
-          {"position", {t.pos[0], t.pos[1], t.pos[2]}}};
+          {"position", {pos[0], pos[1], pos[2]}}};
+}
+
+json carried_json(const Audit& a, int carried) {
+  const CarriedPart& c = a.conversion.assembly.carried[size_t(carried)];
+  const auto& pos = a.model.parts[a.conversion.carried_part[size_t(carried)]].transform.pos;
+  return {{"file", c.source.file},
+          {"line", c.source.line},
+          {"part", c.part},
+          {"color", c.color},
+          {"position", {pos[0], pos[1], pos[2]}}};
 }
 
 json number_or_null(bool valid, double v) {
@@ -42,7 +54,15 @@ json render_json(const Audit& a, const AuditOptions& options) {
   j["title"] = a.model.title;
   j["main_model"] = a.model.main_block;
   j["parts"] = a.model.parts.size();
-  j["bricks"] = a.conversion.assembly.bricks.size();
+  j["bricks"] = a.conversion.assembly.bricks.size();  // analysed as structure
+  j["carried"] = json::array();
+  for (size_t i = 0; i < a.conversion.assembly.carried.size(); ++i) {
+    const CarriedPart& c = a.conversion.assembly.carried[i];
+    json entry = carried_json(a, int(i));
+    entry["reason"] = c.reason;
+    entry["mass_g"] = c.mass_g;
+    j["carried"].push_back(entry);
+  }
   j["skipped"] = json::array();
   for (const auto& s : a.conversion.skipped) {
     const auto& p = a.model.parts[s.part];
@@ -50,17 +70,23 @@ json render_json(const Audit& a, const AuditOptions& options) {
         {{"file", p.file}, {"line", p.line}, {"part", p.part}, {"reason", s.reason}});
   }
   j["learnt_parts"] = json::array();
-  for (const auto& t : a.conversion.learnt->types())
+  for (const auto& t : a.conversion.types->types()) {
+    if (BrickCatalog::standard().find(t.part)) continue;
     j["learnt_parts"].push_back({{"part", t.part},
                                  {"name", t.name},
                                  {"kind", t.kind},
-                                 {"length", t.length},
-                                 {"width", t.width},
-                                 {"height", t.height},
+                                 {"studs", t.shape.studs.size()},
+                                 {"receptacles", t.shape.receptacles.size()},
+                                 {"body_boxes", t.shape.body.size()},
+                                 {"baseplate", t.baseplate},
                                  {"mass_g", t.mass_g},
                                  {"mass_source", t.mass_source}});
+  }
   j["diagnostics"] = json::array();
-  for (const auto& d : a.model.diagnostics)
+  std::vector<ldraw::Diagnostic> diagnostics = a.model.diagnostics;
+  diagnostics.insert(diagnostics.end(), a.conversion.diagnostics.begin(),
+                     a.conversion.diagnostics.end());
+  for (const auto& d : diagnostics)
     j["diagnostics"].push_back(
         {{"severity", d.severity == ldraw::Severity::Error ? "error" : "warning"},
          {"file", d.file},
@@ -73,7 +99,22 @@ json render_json(const Audit& a, const AuditOptions& options) {
                                   1) != r.connectivity.grounded.end();
   j["floating"] = json::array();
   for (int b : r.connectivity.floating) j["floating"].push_back(brick_json(a, b));
+  j["floating_carried"] = json::array();
+  for (int c : r.connectivity.floating_carried) j["floating_carried"].push_back(carried_json(a, c));
+  j["fixed"] = json::array();
+  for (size_t b = 0; b < r.graph.fixed.size(); ++b)
+    if (r.graph.fixed[b]) j["fixed"].push_back(brick_json(a, int(b)));
+  j["joints"] = json::array();
+  for (const auto& group : r.graph.carried_groups) {
+    if (!group.assumed_joint()) continue;
+    json through = json::array(), joins = json::array();
+    for (int c : group.carried) through.push_back(carried_json(a, c));
+    for (int b : group.joins) joins.push_back(brick_json(a, b));
+    j["joints"].push_back({{"through", through}, {"joins", joins}});
+  }
   j["status"] = physics::to_string(r.status);
+  j["unbalanced"] = json::array();
+  for (int b : r.unbalanced) j["unbalanced"].push_back(brick_json(a, b));
   j["min_cm_gf"] = options.min_cm_gf;
   j["cm_newton"] = number_or_null(solved, r.cm_newton());
   j["cm_gf"] = number_or_null(solved, r.cm_gf());
@@ -89,11 +130,13 @@ json render_json(const Audit& a, const AuditOptions& options) {
            {"bricks", s.bricks},
            {"stable", s.stable},
            {"status", physics::to_string(s.status)},
+           {"floating", s.floating},
            {"cm_gf", number_or_null(s.status == physics::StabilityStatus::Solved, s.cm_gf)}});
     j["first_failing_step"] = a.first_failing_step ? json(*a.first_failing_step) : json(nullptr);
   }
   j["lp"] = {{"rows", r.stats.rows}, {"columns", r.stats.columns}, {"nonzeros", r.stats.nonzeros}};
   j["timing"] = {{"parse", a.parse_seconds},
+                 {"parts", a.parts_seconds},
                  {"graph", r.stats.graph_seconds},
                  {"build", r.stats.build_seconds},
                  {"solve", r.stats.solve_seconds}};

@@ -1,5 +1,7 @@
 #include <fmt/format.h>
 
+#include <map>
+
 #include "report/render.h"
 
 namespace lego::report {
@@ -21,6 +23,10 @@ const char* verdict_word(const Audit& a) {
   return "?";
 }
 
+std::string plural(size_t n, const char* word) {
+  return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s");
+}
+
 std::string verdict_reason(const Audit& a) {
   using physics::StabilityStatus;
   const auto& r = a.stability;
@@ -28,19 +34,14 @@ std::string verdict_reason(const Audit& a) {
     case Verdict::Unreadable:
       return a.fatal;
     case Verdict::NothingToAnalyse:
-      return "no part could be analysed as a brick";
+      return "no part could be analysed as structure";
     default:
       break;
   }
   std::string why;
   switch (r.status) {
     case StabilityStatus::Floating:
-      why = fmt::format("{} floating brick{}", r.connectivity.floating.size(),
-                        r.connectivity.floating.size() == 1 ? "" : "s");
-      if (!a.conversion.skipped.empty())
-        why +=
-            fmt::format(" (they may rest on the {} part{} left out)", a.conversion.skipped.size(),
-                        a.conversion.skipped.size() == 1 ? "" : "s");
+      why = "nothing stands on the ground";
       break;
     case StabilityStatus::NoEquilibrium:
       why = "no equilibrium: no set of forces holds it up";
@@ -48,10 +49,15 @@ std::string verdict_reason(const Audit& a) {
     case StabilityStatus::Solved:
       why = fmt::format("C_M = {:.3f} gf ({:.4f} N)", r.cm_gf(), r.cm_newton());
       break;
+    case StabilityStatus::Empty:
+      why = "nothing but the ground is analysed";
+      break;
     default:
       why = fmt::format("the solver gave up: {}", r.message);
       break;
   }
+  const size_t floating = r.connectivity.floating.size() + r.connectivity.floating_carried.size();
+  if (floating) why += fmt::format("; {} floating", plural(floating, "part"));
   if (a.first_failing_step) why += fmt::format("; step {} does not stand", *a.first_failing_step);
   return why;
 }
@@ -61,38 +67,74 @@ std::string verdict_reason(const Audit& a) {
 std::string render_text(const Audit& a, bool quiet) {
   std::string out;
   auto line = [&](const std::string& s) { out += s + "\n"; };
-  std::string scope = a.conversion.skipped.empty() || a.verdict == Verdict::Unreadable
-                          ? ""
-                          : " (the verdict covers only the analysed bricks)";
+  const auto& assembly = a.conversion.assembly;
+  std::string scope;
+  if (a.verdict != Verdict::Unreadable && a.assumes())
+    scope = fmt::format(" (assuming {} carried, {} left out)", assembly.carried.size(),
+                        a.conversion.skipped.size());
   line(fmt::format("{}: {}: {}{}", a.file, verdict_word(a), verdict_reason(a), scope));
   if (quiet || a.verdict == Verdict::Unreadable) return out;
 
   for (const auto& d : a.model.diagnostics) line("  " + d.text());
+  for (const auto& d : a.conversion.diagnostics) line("  " + d.text());
   const auto& parts = a.model.parts;
-  line(fmt::format("  parts: {} placed, {} analysed as bricks, {} left out", parts.size(),
-                   a.conversion.assembly.bricks.size(), a.conversion.skipped.size()));
-  for (const auto& t : a.conversion.learnt->types())
-    line(
-        fmt::format("    analysed from its part file: {} {} ({} x {} studs, {} plates high, {}; "
-                    "mass {:.2f} g {})",
-                    t.part, t.name, t.length, t.width, t.height, t.kind, t.mass_g, t.mass_source));
+  line(fmt::format("  parts: {} placed: {} analysed as structure, {} carried, {} left out",
+                   parts.size(), assembly.bricks.size(), assembly.carried.size(),
+                   a.conversion.skipped.size()));
+  size_t estimated = 0;
+  for (const auto& t : a.conversion.types->types())
+    estimated += t.mass_source.starts_with("estimated");
+  if (!a.conversion.types->types().empty())
+    line(fmt::format("  part kinds analysed: {}, {} with a mass estimated from the body",
+                     a.conversion.types->types().size(), estimated));
+  if (!assembly.carried.empty()) {
+    line("  carried (weight counted, connections assumed):");
+    for (size_t i = 0; i < assembly.carried.size(); ++i)
+      line(fmt::format("    {}: {}", describe_carried(a, int(i)), assembly.carried[i].reason));
+  }
   for (const auto& s : a.conversion.skipped) {
     const auto& p = parts[s.part];
-    line(fmt::format("    left out {}:{} {}: {}", p.file, p.line, p.reference, s.reason));
+    line(fmt::format("  left out {}:{} {}: {}", p.file, p.line, p.reference, s.reason));
   }
   for (const auto& note : a.load_notes) line("  load: " + note);
   if (a.verdict == Verdict::NothingToAnalyse) return out;
 
   const auto& r = a.stability;
+  for (const auto& group : r.graph.carried_groups) {
+    if (!group.assumed_joint()) continue;
+    std::string by;
+    for (int c : group.carried) by += (by.empty() ? "" : ", ") + describe_carried(a, c);
+    line("  assumed rigid joint through " + by + ":");
+    for (int b : group.joins) line("    " + describe_brick(a, b));
+  }
   const auto& c = r.connectivity;
   int grounded = 0;
   for (char g : c.grounded) grounded += g;
-  line(fmt::format("  connectivity: {} snapped component{}, {} on the ground", c.component_count,
-                   c.component_count == 1 ? "" : "s", grounded));
+  int fixed = 0;
+  for (char f : r.graph.fixed) fixed += f;
+  line(fmt::format(
+      "  connectivity: {}, {} on the ground{}",
+      plural(size_t(c.component_count), "snapped component"), grounded,
+      fixed ? fmt::format(" ({} the ground)", plural(size_t(fixed), "baseplate or fixed part is"))
+            : ""));
   for (int b : c.floating) line("    floating " + describe_brick(a, b));
-  for (auto [x, y] : r.graph.overlaps)
-    line(fmt::format("    overlapping bricks: {} and {}", describe_brick(a, x),
-                     describe_brick(a, y)));
+  if (!r.unbalanced.empty()) {
+    line(fmt::format("  no equilibrium: nothing holds {} (they tip or hang):",
+                     plural(r.unbalanced.size(), "part")));
+    for (size_t i = 0; i < r.unbalanced.size() && i < 20; ++i)
+      line("    " + describe_brick(a, r.unbalanced[i]));
+    if (r.unbalanced.size() > 20) line(fmt::format("    and {} more", r.unbalanced.size() - 20));
+  }
+  for (int k : c.floating_carried) line("    floating (carried) " + describe_carried(a, k));
+  // Bodies that share volume are common (a pin in a hole, a part drawn inside another); the same
+  // part twice in one place is a mistake.
+  for (auto [x, y] : r.graph.overlaps) {
+    const Brick &bx = assembly.bricks[size_t(x)], &by = assembly.bricks[size_t(y)];
+    const Pose px = pose_of(bx), py = pose_of(by);
+    if (bx.type->part == by.type->part && px.origin == py.origin && px.rotation == py.rotation)
+      line(fmt::format("    duplicated parts: {} and {}", describe_brick(a, x),
+                       describe_brick(a, y)));
+  }
   if (r.status == physics::StabilityStatus::Solved) {
     line(fmt::format(
         "  stability: C_M = {:.3f} gf = {:.4f} N (maximum friction load T = 71.658 gf per point)",
@@ -105,20 +147,23 @@ std::string render_text(const Audit& a, bool quiet) {
                        describe_brick(a, w.upper)));
     }
     if (!shown) line("  no contact needs friction: the model stands on its normal forces alone");
+    if (!r.message.empty()) line("  solver: " + r.message);
   }
   if (!a.steps.empty()) {
     line("  build steps:");
-    for (const auto& s : a.steps)
-      line(fmt::format(
-          "    step {:3}: {:5} bricks  {}", s.step, s.bricks,
-          s.status == physics::StabilityStatus::Solved
-              ? fmt::format("C_M = {:9.3f} gf{}", s.cm_gf, s.stable ? "" : "  <- does not stand")
-              : fmt::format("{}  <- does not stand", physics::to_string(s.status))));
+    for (const auto& s : a.steps) {
+      std::string state = s.status == physics::StabilityStatus::Solved
+                              ? fmt::format("C_M = {:9.3f} gf", s.cm_gf)
+                              : std::string(physics::to_string(s.status));
+      if (s.floating) state += fmt::format(", {} floating", plural(size_t(s.floating), "part"));
+      line(fmt::format("    step {:3}: {:5} bricks  {}{}", s.step, s.bricks, state,
+                       s.stable ? "" : "  <- does not stand"));
+    }
   }
   line(
-      fmt::format("  time: parse {:.3f} s, graph {:.3f} s, build LP {:.3f} s, solve {:.3f} s ({} "
-                  "rows, {} columns)",
-                  a.parse_seconds, r.stats.graph_seconds, r.stats.build_seconds,
+      fmt::format("  time: parse {:.3f} s, parts {:.3f} s, graph {:.3f} s, build LP {:.3f} s, "
+                  "solve {:.3f} s ({} rows, {} columns)",
+                  a.parse_seconds, a.parts_seconds, r.stats.graph_seconds, r.stats.build_seconds,
                   r.stats.solve_seconds, r.stats.rows, r.stats.columns));
   return out;
 }

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "app/run_tool.h"
@@ -111,7 +112,8 @@ TEST(Brickcheck, GroundThresholdAndLoads) {
   EXPECT_NE(bad.err.find("expected LINE=GRAMS"), std::string::npos);
   auto nowhere = run_tool("brickcheck", {"--load", "99=10", bridge('b', 1).string()});
   EXPECT_EQ(nowhere.exit_code, 2);
-  EXPECT_NE(nowhere.out.find("names no analysed brick"), std::string::npos) << nowhere.out;
+  EXPECT_NE(nowhere.out.find("names no part analysed as structure"), std::string::npos)
+      << nowhere.out;
 }
 
 TEST(Brickcheck, BadInputGetsClearMessagesAndExitCodes) {
@@ -129,10 +131,11 @@ TEST(Brickcheck, BadInputGetsClearMessagesAndExitCodes) {
   auto run = run_tool("brickcheck", {empty.string()});
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.out.find("no part in the model"), std::string::npos) << run.out;
+  // Nothing that can be analysed is never a pass: exit 3, with the part and line left out.
   run = run_tool("brickcheck", {unknown.string()});
-  EXPECT_EQ(run.exit_code, 0);
+  EXPECT_EQ(run.exit_code, 3);
   EXPECT_NE(run.out.find("NOTHING TO ANALYSE"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find(unknown.string() + ":2 3626b.dat: unknown part"), std::string::npos)
+  EXPECT_NE(run.out.find(unknown.string() + ":2 3626b.dat: no part file for it"), std::string::npos)
       << run.out;
   EXPECT_EQ(run_tool("brickcheck", {"--strict", unknown.string()}).exit_code, 3);
   run = run_tool("brickcheck", {malformed.string()});
@@ -217,7 +220,8 @@ TEST(Brickcheck, FiftyThousandPartsInSeconds) {
   json j = check_json({path.string()}, 1);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_EQ(j["parts"], 50000);
-  EXPECT_EQ(j["floating"].size(), 25000u);
+  // A plate a plate above nothing meets nothing: carried, and touching nothing, floating.
+  EXPECT_EQ(j["floating_carried"].size(), 25000u);
   RecordProperty("seconds", std::to_string(seconds));
 }
 
@@ -253,7 +257,8 @@ TEST(Brickcheck, HeatColourScale) {
 
 struct SharedExpectation {
   const char* file;
-  int bricks, skipped, components, floating;
+  int analysed, carried, components, floating;
+  bool has_cm;
   int exit_code;
 };
 void PrintTo(const SharedExpectation& e, std::ostream* os) {
@@ -261,30 +266,36 @@ void PrintTo(const SharedExpectation& e, std::ostream* os) {
 }
 class BrickcheckShared : public testing::TestWithParam<SharedExpectation> {};
 
-// What brickcheck says about each real model. Most hold parts outside the catalog, so bricks
-// that rest on them are reported floating: the verdict covers only the analysed bricks.
+// What brickcheck says about each real model with the parts library beside it: every part is
+// analysed or carried (none left out), and each model gets a C_M.
 TEST_P(BrickcheckShared, PinsWhatItSays) {
   SKIP_WITHOUT_SHARED();
   const auto& e = GetParam();
-  json j = check_json({(test::shared_dir() / "ldraw-models" / e.file).string()}, e.exit_code);
-  EXPECT_EQ(j["bricks"], e.bricks);
-  EXPECT_EQ(j["skipped"].size(), size_t(e.skipped));
+  json j = check_json({"--ldraw-dir", (test::shared_dir() / "ldraw-library").string(),
+                       (test::shared_dir() / "ldraw-models" / e.file).string()},
+                      e.exit_code);
+  EXPECT_EQ(j["bricks"], e.analysed);
+  EXPECT_EQ(j["carried"].size(), size_t(e.carried));
+  EXPECT_EQ(j["skipped"].size(), 0u);
+  EXPECT_EQ(j["bricks"].get<int>() + int(j["carried"].size()), j["parts"].get<int>());
   EXPECT_EQ(j["components"], e.components);
-  EXPECT_EQ(j["floating"].size(), size_t(e.floating));
+  EXPECT_EQ(j["floating"].size() + j["floating_carried"].size(), size_t(e.floating));
+  EXPECT_EQ(!j["cm_gf"].is_null(), e.has_cm);
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Real, BrickcheckShared,
-    testing::Values(SharedExpectation{"car.ldr", 31, 30, 11, 31, 1},
-                    // Embedded 3031, 3938 and 3068b are analysed from the file itself.
-                    SharedExpectation{"car.ldr_Packed.mpd", 34, 27, 8, 34, 1},
-                    SharedExpectation{"30023-1-Lighthouse.ldr", 1, 24, 1, 1, 1},
-                    SharedExpectation{"889-1-RadarTruck.mpd", 6, 29, 2, 6, 1},
-                    SharedExpectation{"4838-1-MiniVehicles.mpd", 14, 65, 3, 2, 1},
-                    SharedExpectation{"4915-1-MiniConstruction.mpd", 8, 59, 2, 8, 1},
-                    SharedExpectation{"5935-1-IslandHopper.mpd", 42, 161, 20, 42, 1},
-                    SharedExpectation{"1621-1-LunarMPVVehicle.mpd", 4, 100, 4, 4, 1},
-                    SharedExpectation{"Bulldog.mpd", 2, 7, 2, 0, 0}),
+    testing::Values(SharedExpectation{"car.ldr", 44, 17, 1, 0, true, 0},
+                    // Its own (older) part files: analysed from the file itself.
+                    SharedExpectation{"car.ldr_Packed.mpd", 50, 11, 1, 0, true, 0},
+                    SharedExpectation{"30023-1-Lighthouse.ldr", 25, 0, 2, 0, true, 0},
+                    SharedExpectation{"889-1-RadarTruck.mpd", 13, 22, 1, 0, true, 0},
+                    SharedExpectation{"4838-1-MiniVehicles.mpd", 61, 18, 1, 0, true, 0},
+                    SharedExpectation{"4915-1-MiniConstruction.mpd", 45, 22, 1, 0, true, 0},
+                    // A propeller (30478) placed apart from everything: it really floats.
+                    SharedExpectation{"5935-1-IslandHopper.mpd", 157, 46, 3, 1, true, 1},
+                    SharedExpectation{"1621-1-LunarMPVVehicle.mpd", 29, 75, 1, 0, true, 0},
+                    SharedExpectation{"Bulldog.mpd", 9, 0, 1, 0, true, 0}),
     [](const auto& info) {
       std::string n = info.param.file;
       for (char& c : n)
@@ -296,42 +307,48 @@ TEST(Brickcheck, PartsFromAnLDrawLibrary) {
   auto model = (test::data_dir() / "library-model.ldr").string();
   auto library = (test::data_dir() / "library").string();
   json j = check_json({"--ldraw-dir", library, model}, 0);
-  EXPECT_EQ(j["bricks"], 3);
-  EXPECT_EQ(j["components"], 1);  // the plate, the brick on it, the tile on the brick
-  ASSERT_EQ(j["learnt_parts"].size(), 2u);
-  EXPECT_EQ(j["learnt_parts"][0]["part"], "3031");  // knobs through a stud group (stug-2x2)
-  EXPECT_EQ(j["learnt_parts"][0]["kind"], "plate");
-  EXPECT_EQ(j["learnt_parts"][0]["length"], 4);
-  EXPECT_NEAR(j["learnt_parts"][0]["mass_g"].get<double>(), 22.29 / 210 * 16, 1e-9);
-  EXPECT_EQ(j["learnt_parts"][1]["part"], "3068b");  // its body in a subpart, no knobs
-  EXPECT_EQ(j["learnt_parts"][1]["kind"], "tile");
-  ASSERT_EQ(j["skipped"].size(), 2u);
-  EXPECT_NE(j["skipped"][0]["reason"].get<std::string>().find("3 knobs on a 2 x 2 top"),
+  // The plate on the ground, the brick on it, the tile on the brick; the corner brick (three
+  // studs on a 2 x 2 top) and the jumper plate (one stud in the middle) beside them.
+  EXPECT_EQ(j["bricks"], 5);
+  EXPECT_EQ(j["carried"].size(), 0u);
+  EXPECT_EQ(j["components"], 3);
+  ASSERT_EQ(j["learnt_parts"].size(), 4u);
+  std::map<std::string, json> learnt;
+  for (const auto& p : j["learnt_parts"]) learnt[p["part"]] = p;
+  EXPECT_EQ(learnt["3031"]["studs"], 16);  // through stud groups (stug-2x2)
+  EXPECT_EQ(learnt["3031"]["receptacles"], 16);
+  EXPECT_EQ(learnt["3068b"]["studs"], 0);  // its body in a subpart
+  EXPECT_EQ(learnt["3068b"]["receptacles"], 4);
+  EXPECT_EQ(learnt["2357"]["studs"], 3);
+  EXPECT_EQ(learnt["2357"]["receptacles"], 3);  // not the open corner
+  EXPECT_EQ(learnt["3794b"]["studs"], 1);
+  EXPECT_EQ(learnt["3794b"]["receptacles"], 2);  // either side of the pin
+  EXPECT_NE(learnt["3031"]["mass_source"].get<std::string>().find("estimated from its body"),
             std::string::npos);
-  EXPECT_EQ(j["skipped"][0]["line"], 11);
-  EXPECT_NE(j["skipped"][1]["reason"].get<std::string>().find("off its top lattice"),
-            std::string::npos);
-  EXPECT_EQ(run_tool("brickcheck", {"--strict", "--ldraw-dir", library, model}).exit_code, 3);
+  // The paper's eleven bricks weigh 22.29 g in 210 stud²·plates (3,200 LDU³ each).
+  EXPECT_NEAR(learnt["3031"]["mass_g"].get<double>(), 22.29 / (210 * 3200.0) * (80 * 80 * 8), 1e-9);
+  EXPECT_EQ(run_tool("brickcheck", {"--strict", "--ldraw-dir", library, model}).exit_code, 0);
   // LDRAWDIR works like --ldraw-dir.
   std::string cmd = "LDRAWDIR=" + test::quote(library) + " " +
                     test::quote(test::tool("brickcheck").string()) + " --quiet " +
                     test::quote(model) + " >/dev/null";
   EXPECT_EQ(std::system(cmd.c_str()), 0);
-  // Without the library the brick rests on an unknown plate: it is not on the ground.
-  json alone = check_json({model}, 1);
-  EXPECT_EQ(alone["bricks"], 1);
-  EXPECT_EQ(alone["floating"].size(), 1u);
-  EXPECT_NE(run_tool("brickcheck", {model}).out.find("may rest on the 4 parts left out"),
-            std::string::npos);
+  // Without the library only the brick is known, and it rests on nothing known: nothing can be
+  // analysed, and the four parts left out are named.
+  json alone = check_json({model}, 3);
+  EXPECT_EQ(alone["bricks"], 0);
+  EXPECT_EQ(alone["skipped"].size(), 4u);
+  EXPECT_EQ(alone["verdict"], "nothing-to-analyse");
 }
 
 TEST(BrickcheckSharedDetail, DuplicatedPartsAreReportedAsOverlapping) {
   SKIP_WITHOUT_SHARED();
   auto run = run_tool("brickcheck",
-                      {(test::shared_dir() / "ldraw-models" / "5935-1-IslandHopper.mpd").string()});
-  EXPECT_NE(
-      run.out.find("overlapping bricks: 5935-1-IslandHopper.mpd:107 3004 Red at (-110, -112, 0)"),
-      std::string::npos)
+                      {"--ldraw-dir", (test::shared_dir() / "ldraw-library").string(),
+                       (test::shared_dir() / "ldraw-models" / "5935-1-IslandHopper.mpd").string()});
+  EXPECT_NE(run.out.find("duplicated parts: 5935-1-IslandHopper.mpd:107 3004 Red at (-110, -112, "
+                         "0) and 5935-1-IslandHopper.mpd:110"),
+            std::string::npos)
       << run.out;
 }
 

@@ -2,8 +2,8 @@
 // and steps accounted for.
 #include <gtest/gtest.h>
 
-#include "ldraw/assembly_builder.h"
 #include "ldraw/reader.h"
+#include "parts/assembly_builder.h"
 #include "test_paths.h"
 
 namespace lego::ldraw {
@@ -89,13 +89,18 @@ TEST(SharedModelsDetail, PackedMpdResolvesEmbeddedParts) {
   for (const auto& p : m.parts) EXPECT_FALSE(p.embedded_definition.empty()) << p.reference;
   EXPECT_EQ(m.parts[0].part, "4315");
   EXPECT_GE(m.embedded_parts.size(), 100u);
-  auto conv = to_assembly(m, BrickCatalog::standard());
-  auto plain = to_assembly(read_file(test::shared_dir() / "ldraw-models" / "car.ldr"),
-                           BrickCatalog::standard());
-  // The packed file carries its parts: the 4x4 plate and the tile among them are lattice boxes.
-  EXPECT_NE(conv.learnt->find("3031"), nullptr);
-  EXPECT_NE(conv.learnt->find("3068b"), nullptr);
-  EXPECT_EQ(conv.assembly.bricks.size(), plain.assembly.bricks.size() + 3);
+  parts::PartLibrary library({}, BrickCatalog::standard());
+  auto conv = parts::to_assembly(m, library);
+  auto plain =
+      parts::to_assembly(read_file(test::shared_dir() / "ldraw-models" / "car.ldr"), library);
+  // The packed file carries its parts: every one is known, and most are analysed as structure;
+  // without a library, the plain file's parts outside the catalog are left out.
+  EXPECT_TRUE(conv.skipped.empty());
+  EXPECT_NE(conv.types->find("3031"), nullptr);
+  EXPECT_NE(conv.types->find("3068b"), nullptr);
+  EXPECT_GT(conv.assembly.bricks.size(), plain.assembly.bricks.size());
+  EXPECT_EQ(plain.assembly.bricks.size() + plain.assembly.carried.size() + plain.skipped.size(),
+            m.parts.size());
 }
 
 }  // namespace

@@ -15,8 +15,8 @@ using test::kBrick;
 
 constexpr double kT = 71.658;  // T / g, grams
 
-const StackedContact& top_contact(const StabilityResult& r) {
-  return r.graph.stacked.at(r.weakest.at(0).contact);
+const Contact& top_contact(const StabilityResult& r) {
+  return r.graph.contacts.at(size_t(r.weakest.at(0).contact));
 }
 
 TEST(Stability, SingleCantileverOfPhysicsMd) {
@@ -31,7 +31,7 @@ TEST(Stability, SingleCantileverOfPhysicsMd) {
     EXPECT_NEAR(r.cm_newton(), r.cm_gf() * 9.8e-3, 1e-12);
     EXPECT_EQ(top_contact(r).lower, floor);
     EXPECT_EQ(top_contact(r).upper, beam);
-    EXPECT_EQ(top_contact(r).knobs, 3);
+    EXPECT_EQ(top_contact(r).studs, 3);
   }
 }
 
@@ -99,17 +99,25 @@ TEST(Stability, HangingBrickSharesItsWeightOverFourPoints) {
   EXPECT_NEAR(r.brick_capacity[0] / 9.8, kT, 1e-5);
 }
 
-TEST(Stability, FloatingBrickIsReportedWithoutAnLp) {
+// PHYSICS.md "Floating": a floating brick is reported and left out of the LP, and the rest is
+// still solved: one brick in the air does not cancel the analysis of the model.
+TEST(Stability, FloatingBrickIsReportedAndTheRestSolved) {
   Assembly a;
   add(a, "3001", 0, 0, 0);
   int floating = add(a, "3001", 10, 2 * kBrick, 0);
   auto r = analyze_stability(a);
-  EXPECT_EQ(r.status, StabilityStatus::Floating);
+  EXPECT_EQ(r.status, StabilityStatus::Solved);
   ASSERT_EQ(r.connectivity.floating.size(), 1u);
   EXPECT_EQ(r.connectivity.floating[0], floating);
   EXPECT_EQ(r.connectivity.component_count, 2);
-  EXPECT_EQ(r.stats.rows, 0);
-  EXPECT_FALSE(r.stable());
+  EXPECT_EQ(r.stats.rows, 6);  // the grounded brick's rows only
+  EXPECT_NEAR(r.cm_gf(), kT, 1e-6);
+  EXPECT_FALSE(r.stable()) << "a model with floating parts is not stable, whatever its C_M";
+  // Nothing on the ground at all: nothing to solve.
+  Assembly air;
+  air.ground_height = -100;
+  add(air, "3001", 0, 0, 0);
+  EXPECT_EQ(analyze_stability(air).status, StabilityStatus::Floating);
 }
 
 TEST(Stability, TwoTowersJoinedByOneBrick) {
@@ -236,7 +244,9 @@ TEST(StabilityProperty, NarrowingTowersAreStableWithoutFriction) {
     }
     // Lift the top brick off its support: it floats.
     a.bricks.back().min.y += 1;
-    EXPECT_EQ(analyze_stability(a).status, StabilityStatus::Floating);
+    const auto lifted = analyze_stability(a);
+    EXPECT_EQ(lifted.connectivity.floating, std::vector<int>{int(a.bricks.size()) - 1});
+    EXPECT_FALSE(lifted.stable());
   }
 }
 
@@ -346,14 +356,14 @@ TEST(ContactGraph, FrictionPointsFollowTheCavityShape) {
   add(a, "3001", 21, kBrick, 0);  // 6 knobs x 3 points
   auto g = ContactGraph::build(a, GroundMode::Baseplate);
   std::vector<int> points_by_upper(a.bricks.size(), -1);
-  for (const auto& c : g.stacked) {
-    if (c.lower != kGround) points_by_upper[c.upper] = int(c.point_count);
+  for (const auto& c : g.contacts) {
+    if (c.lower != kGround && c.snap()) points_by_upper[size_t(c.upper)] = int(c.point_count);
   }
   EXPECT_EQ(points_by_upper[1], 8);
   EXPECT_EQ(points_by_upper[3], 12);
   EXPECT_EQ(points_by_upper[5], 18);
   auto table = ContactGraph::build(a, GroundMode::Table);
-  for (const auto& c : table.stacked) {
+  for (const auto& c : table.contacts) {
     if (c.lower == kGround) {
       EXPECT_EQ(c.point_count, 0u);
     }
@@ -370,7 +380,9 @@ TEST(ContactGraph, SideContactsAndOverlaps) {
   ASSERT_EQ(g.overlaps.size(), 1u);
   EXPECT_EQ(g.overlaps[0], std::make_pair(0, 3));
   int x_sides = 0, z_sides = 0;
-  for (const auto& s : g.sides) (s.axis == 0 ? x_sides : z_sides)++;
+  for (const auto& c : g.contacts)
+    if (!c.snap() && c.lower != kGround)
+      (axis_of(c.direction) == 0 ? x_sides : z_sides) += axis_of(c.direction) != 1;
   EXPECT_GE(x_sides, 1);
   EXPECT_GE(z_sides, 1);
 }

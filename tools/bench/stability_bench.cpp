@@ -66,9 +66,7 @@ int main(int argc, char** argv) {
       return v[v.size() / 2];
     };
     std::string top;
-    if (!r.weakest.empty())
-      top = fmt::format("{}-{}", r.graph.stacked[r.weakest[0].contact].lower,
-                        r.graph.stacked[r.weakest[0].contact].upper);
+    if (!r.weakest.empty()) top = fmt::format("{}-{}", r.weakest[0].lower, r.weakest[0].upper);
     fmt::print(
         "{:6} {:7} {:7} {:8} {:6} {:15} {:3} {:3} {:8.4f} {:8.4f} {:9.3f} {:16} {:10.4f} {}\n",
         a.bricks.size(), r.stats.rows, r.stats.columns, r.stats.nonzeros, form, method,

@@ -1,0 +1,60 @@
+#pragma once
+// What the physics needs to know of a part, in the part's own LDraw frame (LDU, -y up, origin
+// where the part file has it): its studs, its receptacles and its body (PHYSICS.md "Parts").
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace lego {
+
+using Vec3 = std::array<double, 3>;
+
+// One of the six axis directions: 2 * axis + (1 when it points the negative way).
+// kUp is LDraw's up (-y) in a part's frame.
+inline constexpr int kPlusX = 0, kMinusX = 1, kPlusY = 2, kMinusY = 3, kPlusZ = 4, kMinusZ = 5;
+inline constexpr int axis_of(int direction) {
+  return direction / 2;
+}
+inline constexpr double sign_of(int direction) {
+  return direction % 2 ? -1.0 : 1.0;
+}
+inline constexpr int opposite(int direction) {
+  return direction ^ 1;
+}
+inline constexpr int direction_of(int axis, bool negative) {
+  return 2 * axis + (negative ? 1 : 0);
+}
+
+// A stud (male) or a receptacle (female) of a part. A stud: the centre of its base, `direction`
+// the way it points. A receptacle: the centre of the opening where a stud's base comes to rest,
+// `direction` the way the opening faces (a stud entering it points the opposite way).
+struct Connector {
+  Vec3 at{0, 0, 0};
+  int direction = kMinusY;
+};
+
+// An axis-aligned box, min < max on every axis.
+struct Box {
+  Vec3 min{0, 0, 0}, max{0, 0, 0};
+  double volume() const { return (max[0] - min[0]) * (max[1] - min[1]) * (max[2] - min[2]); }
+};
+
+struct PartShape {
+  std::vector<Connector> studs, receptacles;
+  std::vector<Box> body;  // the solid without its studs: one box, or a few
+  // The points of its faces farthest out in many directions: where the part reaches when it is
+  // turned any way (a tilted round brick's lowest point is not its box's corner). Empty for the
+  // catalog's boxes, whose corners are exact.
+  std::vector<Vec3> outline;
+
+  Box bounds() const;  // of the body
+  double body_volume() const;
+};
+
+// The shape of a brick, plate or tile of the catalog's family: a box `length` x `width` studs and
+// `height` plates, origin at the top centre, length along x; studs on every top cell (or none, a
+// tile), a receptacle under every bottom cell. It is what the library's own files for these
+// parts derive to (tests/parts check it).
+PartShape box_brick_shape(int length, int width, int height, bool studs);
+
+}  // namespace lego

@@ -1,0 +1,203 @@
+#include "parts/assembly_builder.h"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace lego::parts {
+namespace {
+
+// LDraw files write matrices with a few decimals: "0.57 0.82" is a rotation to a hundredth.
+constexpr double kRotationTolerance = 1e-2;
+
+double dot3(const double* a, const double* b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+}  // namespace
+
+std::optional<std::array<double, 9>> orthonormalized(const std::array<double, 9>& m,
+                                                     double tolerance) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double d = 0;
+      for (int k = 0; k < 3; ++k) d += m[size_t(3 * k + i)] * m[size_t(3 * k + j)];
+      if (std::abs(d - (i == j ? 1.0 : 0.0)) > tolerance) return std::nullopt;
+    }
+  // Gram-Schmidt on the columns (the part's axes in the world), in order.
+  double c[3][3];
+  for (int j = 0; j < 3; ++j)
+    for (int r = 0; r < 3; ++r) c[j][r] = m[size_t(3 * r + j)];
+  for (int j = 0; j < 3; ++j) {
+    for (int i = 0; i < j; ++i) {
+      const double d = dot3(c[j], c[i]);
+      for (int r = 0; r < 3; ++r) c[j][r] -= d * c[i][r];
+    }
+    const double length = std::sqrt(dot3(c[j], c[j]));
+    for (int r = 0; r < 3; ++r) c[j][r] /= length;
+  }
+  std::array<double, 9> out;
+  for (int j = 0; j < 3; ++j)
+    for (int r = 0; r < 3; ++r) out[size_t(3 * r + j)] = c[j][r];
+  return out;
+}
+
+std::optional<std::array<double, 9>> quarter_turn(const std::array<double, 9>& m,
+                                                  double tolerance) {
+  std::array<double, 9> out{};
+  bool column_used[3] = {false, false, false};
+  for (int r = 0; r < 3; ++r) {
+    int found = -1;
+    for (int k = 0; k < 3; ++k) {
+      const double v = m[size_t(3 * r + k)];
+      if (std::abs(std::abs(v) - 1) <= tolerance) {
+        if (found >= 0 || column_used[k]) return std::nullopt;
+        found = k;
+      } else if (std::abs(v) > tolerance) {
+        return std::nullopt;
+      }
+    }
+    if (found < 0) return std::nullopt;
+    column_used[found] = true;
+    out[size_t(3 * r + found)] = m[size_t(3 * r + found)] > 0 ? 1 : -1;
+  }
+  return out;
+}
+
+std::optional<std::array<double, 9>> model_frame(const ldraw::Model& model) {
+  // Each part votes for the turn left when its own quarter turns are taken out: R·Pᵀ for the
+  // signed permutation P nearest to its rotation R.
+  std::map<std::array<long, 9>, std::pair<int, std::array<double, 9>>> votes;
+  for (const ldraw::PlacedPart& p : model.parts) {
+    auto r = orthonormalized(p.transform.rot, kRotationTolerance);
+    if (!r) continue;
+    std::array<double, 9> perm{};
+    bool used[3] = {false, false, false}, ok = true;
+    for (int row = 0; row < 3 && ok; ++row) {
+      int best = 0;
+      for (int k = 1; k < 3; ++k)
+        if (std::abs((*r)[size_t(3 * row + k)]) > std::abs((*r)[size_t(3 * row + best)])) best = k;
+      ok = !used[best] && std::abs((*r)[size_t(3 * row + best)]) > 0.8;
+      used[best] = true;
+      perm[size_t(3 * row + best)] = (*r)[size_t(3 * row + best)] > 0 ? 1 : -1;
+    }
+    if (!ok) continue;
+    std::array<double, 9> q{};  // R·Pᵀ
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        for (int k = 0; k < 3; ++k)
+          q[size_t(3 * a + b)] += (*r)[size_t(3 * a + k)] * perm[size_t(3 * b + k)];
+    std::array<long, 9> key;
+    for (int k = 0; k < 9; ++k) key[size_t(k)] = std::lround(q[size_t(k)] * 100);
+    auto& v = votes[key];
+    ++v.first;
+    v.second = q;
+  }
+  const std::array<long, 9> identity{100, 0, 0, 0, 100, 0, 0, 0, 100};
+  int best = 0, at_identity = 0;
+  std::optional<std::array<double, 9>> frame;
+  for (const auto& [key, vote] : votes) {
+    if (key == identity)
+      at_identity = vote.first;
+    else if (vote.first > best)
+      best = vote.first, frame = vote.second;
+  }
+  // Only a turn about the vertical, or a slight tilt: gravity stays along the frame's y.
+  if (!frame || best <= at_identity || (*frame)[4] < std::cos(10 * M_PI / 180)) return std::nullopt;
+  return orthonormalized(*frame, kRotationTolerance);
+}
+
+AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
+                               const std::vector<size_t>& fixed_parts) {
+  AssemblyConversion out;
+  // A model drawn turned as a whole (a car tilted 1° on its springs) is analysed in its own frame.
+  const auto frame = model_frame(model);
+  if (frame)
+    out.diagnostics.push_back(
+        {ldraw::Severity::Warning, model.source, 0,
+         fmt::format(
+             "most parts are turned together by {:.1f} degrees: analysed in that frame, "
+             "with gravity along its down axis",
+             std::acos(std::clamp(((*frame)[0] + (*frame)[4] + (*frame)[8] - 1) / 2, -1.0, 1.0)) *
+                 180 / M_PI)});
+  auto in_frame = [&](const ldraw::Transform& t) {
+    if (!frame) return t;
+    ldraw::Transform out_t;  // Fᵀ·t
+    for (int a = 0; a < 3; ++a) {
+      out_t.pos[size_t(a)] = 0;
+      for (int k = 0; k < 3; ++k)
+        out_t.pos[size_t(a)] += (*frame)[size_t(3 * k + a)] * t.pos[size_t(k)];
+      for (int b = 0; b < 3; ++b) {
+        double v = 0;
+        for (int k = 0; k < 3; ++k) v += (*frame)[size_t(3 * k + a)] * t.rot[size_t(3 * k + b)];
+        out_t.rot[size_t(3 * a + b)] = v;
+      }
+    }
+    return out_t;
+  };
+  for (size_t i = 0; i < model.parts.size(); ++i) {
+    const ldraw::PlacedPart& p = model.parts[i];
+    const ldraw::Transform placed = in_frame(p.transform);
+    std::string why;
+    const PartKnowledge* k = library.knowledge(p, model, why);
+    if (!k) {
+      out.skipped.push_back({i, why});
+      continue;
+    }
+    const SourceRef source{p.file, p.line, p.step};
+    std::string carried_reason = k->carried_reason;
+    std::array<double, 9> rotation = placed.rot;
+    bool approximate = false;
+    if (auto exact = orthonormalized(rotation, 1e-6)) {
+      rotation = *exact;
+    } else if (auto near = orthonormalized(rotation, kRotationTolerance)) {
+      rotation = *near;
+      approximate = true;
+    } else if (carried_reason.empty()) {
+      carried_reason = "its matrix is scaled or sheared";
+    }
+    std::optional<std::array<double, 9>> turn;
+    if (carried_reason.empty()) {
+      turn = quarter_turn(rotation, kRotationTolerance);
+      if (!turn) carried_reason = "turned by an angle that is not a multiple of 90 degrees";
+    }
+    Pose pose;
+    pose.rotation = turn ? *turn : rotation;
+    pose.origin = placed.pos;
+    if (!carried_reason.empty()) {
+      CarriedPart c;
+      c.part = k->type.part;
+      c.reason = carried_reason;
+      c.color = p.color;
+      c.source = source;
+      c.mass_g = k->type.mass_g;
+      c.mass_source = k->type.mass_source;
+      c.body = k->type.shape.body;
+      c.outline = k->type.shape.outline;
+      if (!orthonormalized(placed.rot, kRotationTolerance)) pose.rotation = placed.rot;
+      c.pose = pose;
+      out.assembly.carried.push_back(std::move(c));
+      out.carried_part.push_back(i);
+      continue;
+    }
+    if (approximate)  // said where the verdict relies on it
+      out.diagnostics.push_back(
+          {ldraw::Severity::Warning, p.file, p.line,
+           "its matrix is a rotation only to 1e-2 (a few decimals): taken as the rotation it is "
+           "nearest to"});
+    const BrickType* type = out.types->find(k->type.part);
+    if (!type) type = &out.types->add(k->type);
+    Brick b;
+    b.type = type;
+    b.pose = pose;
+    b.color = p.color;
+    b.source = source;
+    b.fixed = std::find(fixed_parts.begin(), fixed_parts.end(), i) != fixed_parts.end();
+    out.assembly.bricks.push_back(b);
+    out.brick_part.push_back(i);
+  }
+  return out;
+}
+
+}  // namespace lego::parts

@@ -1,0 +1,43 @@
+#pragma once
+// A read LDraw model as an Assembly: every placed part analysed as structure (a brick with its
+// exact pose), carried (PHYSICS.md "Carried parts"), or left out because nothing is known of it.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/assembly.h"
+#include "core/brick_catalog.h"
+#include "ldraw/reader.h"
+#include "parts/part_library.h"
+
+namespace lego::parts {
+
+// A placed part that is not analysed as structure, and why.
+struct PartNote {
+  size_t part = 0;  // index into Model::parts
+  std::string reason;
+};
+
+struct AssemblyConversion {
+  Assembly assembly;
+  std::vector<size_t> brick_part;              // per brick: its index into Model::parts
+  std::vector<size_t> carried_part;            // per carried part: its index into Model::parts
+  std::vector<PartNote> skipped;               // left out: nothing is known of them
+  std::vector<ldraw::Diagnostic> diagnostics;  // matrices made orthonormal, and the like
+  // The kinds of part the bricks point into (PartLibrary keeps their knowledge).
+  std::unique_ptr<BrickCatalog> types = std::make_unique<BrickCatalog>();
+};
+
+// `fixed_parts`: indices into Model::parts the user names as fixed (--ground-part).
+AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
+                               const std::vector<size_t>& fixed_parts = {});
+
+// A rotation within `tolerance` of an orthonormal one, made exactly so; nullopt when it is scaled
+// or sheared beyond that.
+std::optional<std::array<double, 9>> orthonormalized(const std::array<double, 9>& rotation,
+                                                     double tolerance);
+// The signed permutation within `tolerance` of an orthonormal rotation, or nullopt.
+std::optional<std::array<double, 9>> quarter_turn(const std::array<double, 9>& rotation,
+                                                  double tolerance);
+
+}  // namespace lego::parts

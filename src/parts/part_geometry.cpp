@@ -1,0 +1,206 @@
+#include "parts/part_geometry.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+
+#include "ldraw/transform.h"
+
+namespace lego::parts {
+namespace {
+
+using ldraw::Transform;
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  return s;
+}
+
+std::string_view next_token(std::string_view& rest) {
+  rest = trim(rest);
+  size_t end = 0;
+  while (end < rest.size() && !std::isspace(static_cast<unsigned char>(rest[end]))) ++end;
+  std::string_view token = rest.substr(0, end);
+  rest.remove_prefix(end);
+  return token;
+}
+
+bool number(std::string_view token, double& v) {
+  if (token.starts_with("+")) token.remove_prefix(1);
+  auto [p, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+  return ec == std::errc() && p == token.data() + token.size() && std::isfinite(v);
+}
+
+std::string base_name(std::string_view reference) {
+  std::string name = safe_reference(reference);
+  const auto slash = name.rfind('/');
+  return slash == std::string::npos ? name : name.substr(slash + 1);
+}
+
+Vec3 transformed(const Transform& t, const Vec3& p) {
+  Vec3 out{t.pos[0], t.pos[1], t.pos[2]};
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) out[r] += t.rot[3 * r + k] * p[k];
+  return out;
+}
+
+// The direction a stud placed by `t` points (its primitive points to -y), if axis-aligned.
+std::optional<int> stud_direction(const Transform& t) {
+  const Vec3 d{-t.rot[1], -t.rot[4], -t.rot[7]};
+  const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  for (int a = 0; a < 3; ++a)
+    if (std::abs(std::abs(d[a]) - length) < 1e-3 * length) return direction_of(a, d[a] < 0);
+  return std::nullopt;
+}
+
+// Splits text into lines at LF, CR LF or a bare CR.
+template <class F>
+void for_each_line(std::string_view text, F&& f) {
+  size_t pos = 0;
+  while (pos < text.size()) {
+    size_t end = text.find_first_of("\r\n", pos);
+    if (end == std::string_view::npos) end = text.size();
+    f(text.substr(pos, end - pos));
+    pos = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
+  }
+}
+
+}  // namespace
+
+bool is_stud_primitive(std::string_view b) {
+  if (!b.starts_with("stud") || b.starts_with("stud3") || b.starts_with("stud4") ||
+      b.starts_with("stud2s") || b.starts_with("stud12") || b.starts_with("stud16") ||
+      b.starts_with("stud18"))
+    return false;
+  return b.ends_with(".dat");
+}
+
+std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
+                                                           const FileFinder& find,
+                                                           std::string& why) {
+  if (auto it = done_.find(file.key); it != done_.end()) return it->second;
+  if (std::find(stack_.begin(), stack_.end(), file.key) != stack_.end()) {
+    why = "its files refer to each other in a loop";
+    return nullptr;
+  }
+  if (stack_.size() >= 32) {
+    why = "its files are nested more than 32 deep";
+    return nullptr;
+  }
+  stack_.push_back(file.key);
+  auto g = std::make_shared<PartGeometry>();
+  bool first_line = true, failed = false;
+  std::string moved_to;
+  size_t references = 0;
+  for_each_line(*file.text, [&](std::string_view raw) {
+    if (failed) return;
+    std::string_view rest = trim(raw);
+    if (rest.empty()) return;
+    const std::string_view type = next_token(rest);
+    if (type == "0") {
+      const std::string_view meta = trim(rest);
+      if (first_line) {
+        g->title = std::string(meta);
+        if (meta.starts_with("~Moved to ")) moved_to = std::string(trim(meta.substr(10)));
+      } else if (meta.starts_with("!CATEGORY ")) {
+        g->category = std::string(trim(meta.substr(10)));
+      }
+      first_line = false;
+      return;
+    }
+    first_line = false;
+    if (type == "3" || type == "4") {
+      next_token(rest);  // colour
+      const int corners = type == "3" ? 3 : 4;
+      Vec3 p[4];
+      for (int v = 0; v < corners; ++v)
+        for (int a = 0; a < 3; ++a)
+          if (!number(next_token(rest), p[v][a])) return;  // a malformed face draws nothing
+      g->faces.push_back({{p[0], p[1], p[2]}});
+      if (corners == 4) g->faces.push_back({{p[0], p[2], p[3]}});
+      return;
+    }
+    if (type != "1") return;
+    next_token(rest);  // colour
+    Transform t;
+    double v[12];
+    for (double& x : v)
+      if (!number(next_token(rest), x)) return;
+    t.pos = {v[0], v[1], v[2]};
+    std::copy(v + 3, v + 12, t.rot.begin());
+    const std::string_view name = trim(rest);
+    if (name.empty()) return;
+    ++references;
+    const std::string base = base_name(name);
+    if (is_stud_primitive(base)) {
+      if (auto d = stud_direction(t)) {
+        // A stud engages by its top 4 LDU: some parts draw it longer, starting inside the body
+        // (the front studs of an inverted slope), so its base is taken 4 LDU below its tip.
+        Vec3 at = transformed(t, {0, -4, 0});
+        at[size_t(axis_of(*d))] -= 4 * sign_of(*d);
+        g->studs.push_back({at, *d});
+      } else {
+        ++g->angled_studs;
+      }
+      return;
+    }
+    std::string sub_why;
+    auto sub_file = find(name, sub_why);
+    if (!sub_file) {
+      g->missing.push_back(std::string(name));
+      return;
+    }
+    auto sub = flatten(*sub_file, find, sub_why);
+    if (!sub) {
+      why = sub_why;
+      failed = true;
+      return;
+    }
+    if (g->faces.size() + sub->faces.size() > kMaxFaces) {
+      why = "it draws more than 2,000,000 faces";
+      failed = true;
+      return;
+    }
+    for (const Triangle& tri : sub->faces)
+      g->faces.push_back(
+          {{transformed(t, tri.p[0]), transformed(t, tri.p[1]), transformed(t, tri.p[2])}});
+    for (const Connector& s : sub->studs) {
+      // The stud's axis turned by t: its direction as a unit vector through the rotation.
+      Vec3 axis{0, 0, 0};
+      axis[size_t(axis_of(s.direction))] = sign_of(s.direction);
+      Transform turn = t;
+      turn.pos = {0, 0, 0};
+      const Vec3 d = transformed(turn, axis);
+      const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      int direction = -1;
+      for (int a = 0; a < 3 && length > 0; ++a)
+        if (std::abs(std::abs(d[a]) - length) < 1e-3 * length)
+          direction = direction_of(a, d[a] < 0);
+      if (direction < 0) {
+        ++g->angled_studs;
+        continue;
+      }
+      g->studs.push_back({transformed(t, s.at), direction});
+    }
+    g->angled_studs += sub->angled_studs;
+    for (const auto& m : sub->missing) g->missing.push_back(m);
+    if (!moved_to.empty() && references == 1) {  // a moved part is its target
+      g->title = sub->title;
+      g->category = sub->category;
+    }
+  });
+  stack_.pop_back();
+  if (failed) return nullptr;
+  if (g->category.empty()) {
+    std::string_view title = g->title;
+    while (!title.empty() && (title.front() == '~' || title.front() == '_' || title.front() == '='))
+      title.remove_prefix(1);
+    g->category = std::string(next_token(title));
+  }
+  done_[file.key] = g;
+  return g;
+}
+
+}  // namespace lego::parts

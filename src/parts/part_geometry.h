@@ -1,0 +1,55 @@
+#pragma once
+// A part file flattened into what its primitives say: the faces of its body (studs left out) and
+// its studs, in the part's own frame. Each file is flattened once and reused wherever it is
+// placed; the expansion is bounded (kMaxFaces), so parts that fan out cannot run away.
+#include <array>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "core/part_shape.h"
+#include "parts/part_files.h"
+
+namespace lego::parts {
+
+inline constexpr size_t kMaxFaces = 2'000'000;
+
+struct Triangle {
+  std::array<Vec3, 3> p;
+};
+
+struct PartGeometry {
+  std::vector<Triangle> faces;       // type 3 and 4 lines, stud primitives left out
+  std::vector<Connector> studs;      // stud primitives whose axis is one of the six directions
+  int angled_studs = 0;              // stud primitives at other angles
+  std::string title;                 // the file's first line, "~Moved to" followed
+  std::string category;              // !CATEGORY, or the title's first word
+  std::vector<std::string> missing;  // subfiles not found
+};
+
+// Finds the file behind a reference made inside a part; nullopt with `why` when there is none.
+using FileFinder =
+    std::function<std::optional<PartFile>(std::string_view reference, std::string& why)>;
+
+// Flattens part files through `find`, remembering every file flattened (by PartFile::key).
+class GeometryCache {
+ public:
+  // The geometry of the file, or nullptr with `why` (nested too deeply, a reference loop, more
+  // than kMaxFaces faces).
+  std::shared_ptr<const PartGeometry> flatten(const PartFile& file, const FileFinder& find,
+                                              std::string& why);
+
+ private:
+  std::unordered_map<std::string, std::shared_ptr<const PartGeometry>> done_;
+  std::vector<std::string> stack_;
+};
+
+// Whether a primitive's file name (no folder) is a stud: stud.dat, stud2.dat, stud10.dat ...
+// but not the underside tubes and pins (stud3*, stud4*, stud12, stud16, stud18*, stud2s*).
+bool is_stud_primitive(std::string_view base_name);
+
+}  // namespace lego::parts

@@ -1,0 +1,100 @@
+#include "parts/part_library.h"
+
+#include <chrono>
+
+namespace lego::parts {
+namespace {
+
+std::string base_name(const std::string& name) {
+  const auto slash = name.rfind('/');
+  return slash == std::string::npos ? name : name.substr(slash + 1);
+}
+
+}  // namespace
+
+PartLibrary::PartLibrary(std::vector<std::filesystem::path> library_dirs,
+                         const BrickCatalog& catalog)
+    : catalog_(catalog), files_(std::move(library_dirs)) {}
+
+const PartKnowledge* PartLibrary::derive(
+    const std::string& name, const PartFile& file, GeometryCache& cache, const FileFinder& find,
+    std::unordered_map<std::string, std::unique_ptr<PartKnowledge>>& known, std::string& why) {
+  if (auto it = known.find(file.key); it != known.end()) return it->second.get();
+  if (auto it = failed_.find(file.key); it != failed_.end()) {
+    why = it->second;
+    return nullptr;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  auto geometry = cache.flatten(file, find, why);
+  const PartKnowledge* out = nullptr;
+  if (!geometry) {
+    failed_[file.key] = why;
+  } else {
+    auto k = std::make_unique<PartKnowledge>(derive_part(name, *geometry, catalog_));
+    out = k.get();
+    known.emplace(file.key, std::move(k));
+  }
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+const PartKnowledge* PartLibrary::knowledge(const ldraw::PlacedPart& p, const ldraw::Model& model,
+                                            std::string& why) {
+  if (const BrickType* t = catalog_.find(p.part)) {
+    auto& k = catalog_parts_[t->part];
+    if (!k) {
+      k = std::make_unique<PartKnowledge>();
+      k->type = *t;
+    }
+    return k.get();
+  }
+  const FileFinder from_library = [this](std::string_view reference, std::string& w) {
+    return files_.find(reference, w);
+  };
+  if (!p.embedded_definition.empty() || !model.embedded_parts.empty()) {
+    if (embedding_model_ != &model) {  // a new model: its own blocks
+      embedding_model_ = &model;
+      embedded_geometry_ = std::make_unique<GeometryCache>();
+      embedded_known_.clear();
+      embedded_text_.clear();
+      for (const auto& [block, text] : model.embedded_parts)
+        embedded_text_.emplace("embedded:" + safe_reference(block), text);
+    }
+    const FileFinder embedded_first = [this, &from_library](std::string_view reference,
+                                                            std::string& w) {
+      const std::string name = safe_reference(reference);
+      for (const std::string& key :
+           {"embedded:" + name, "embedded:parts/" + name, "embedded:p/" + name}) {
+        auto it = embedded_text_.find(key);
+        if (it != embedded_text_.end()) return std::optional<PartFile>(PartFile{key, &it->second});
+      }
+      // Packed files name blocks by their path ("parts/s/3001s01.dat") or bare.
+      for (auto& [key, text] : embedded_text_)
+        if (base_name(key) == base_name(name)) return std::optional<PartFile>(PartFile{key, &text});
+      return from_library(reference, w);
+    };
+    std::optional<PartFile> file;
+    if (!p.embedded_definition.empty())
+      file = embedded_first(p.embedded_definition, why);
+    else if (!p.definition.empty())
+      file = files_.read(p.definition, why);
+    if (!file) {
+      why =
+          "no part file for it (not in the model, beside it or in the LDraw library; see "
+          "--ldraw-dir)";
+      return nullptr;
+    }
+    return derive(p.part, *file, *embedded_geometry_, embedded_first, embedded_known_, why);
+  }
+  if (p.definition.empty()) {
+    why =
+        "no part file for it (not in the model, beside it or in the LDraw library; see "
+        "--ldraw-dir)";
+    return nullptr;
+  }
+  auto file = files_.read(p.definition, why);
+  if (!file) return nullptr;
+  return derive(p.part, *file, geometry_, from_library, known_, why);
+}
+
+}  // namespace lego::parts

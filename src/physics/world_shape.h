@@ -1,0 +1,36 @@
+#pragma once
+// Parts where an assembly places them, in the lattice frame (LDU, y up): what the contact search
+// and the force model work on.
+#include <array>
+#include <vector>
+
+#include "core/assembly.h"
+
+namespace lego::physics {
+
+// Coordinates are snapped to this grid (LDU) so that studs and receptacles of parts placed on
+// LDraw's usual positions meet exactly.
+inline constexpr double kSnap = 1.0 / 8;
+
+struct WorldShape {
+  std::vector<Box> body;
+  std::vector<Connector> studs, receptacles;
+};
+WorldShape world_shape(const Brick& brick);
+
+// A box turned any way: a carried part's body where the model puts it.
+struct OrientedBox {
+  Vec3 centre{0, 0, 0};
+  std::array<Vec3, 3> axis{};  // unit vectors
+  Vec3 half{0, 0, 0};
+  Box bounds() const;  // the axis-aligned box around it
+};
+std::vector<OrientedBox> world_boxes(const CarriedPart& part);
+// Where a carried part reaches (its outline, or its boxes' corners), in the lattice frame.
+std::vector<Vec3> world_outline(const CarriedPart& part);
+OrientedBox as_oriented(const Box& box);
+
+// Whether two boxes come within `gap` of each other (the separating axis test).
+bool touch(const OrientedBox& a, const OrientedBox& b, double gap);
+
+}  // namespace lego::physics

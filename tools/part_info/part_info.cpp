@@ -1,0 +1,51 @@
+// part-info: what the analysis derives from LDraw part files (studs, receptacles, body boxes,
+// mass, whether it is carried and why). For looking at a part the way the physics sees it.
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "core/brick_catalog.h"
+#include "parts/part_library.h"
+
+using namespace lego;
+
+int main(int argc, char** argv) {
+  CLI::App app{"part-info: the studs, receptacles, body and mass derived from LDraw part files"};
+  std::vector<std::string> names;
+  std::string ldraw_dir;
+  app.add_option("parts", names, "part numbers or file names (3001, 3040b.dat)")->required();
+  app.add_option("--ldraw-dir", ldraw_dir, "the LDraw library")->required();
+  CLI11_PARSE(app, argc, argv);
+  parts::PartLibrary library({ldraw_dir}, BrickCatalog::standard());
+  for (const std::string& name : names) {
+    ldraw::Model model;
+    ldraw::PlacedPart p;
+    p.part = normalize_part_name(name);
+    p.reference = name;
+    for (const char* folder : {"parts", "p"}) {
+      auto path = std::filesystem::path(ldraw_dir) / folder / (p.part + ".dat");
+      if (std::filesystem::exists(path)) p.definition = path;
+    }
+    std::string why;
+    const parts::PartKnowledge* k = library.knowledge(p, model, why);
+    if (!k) {
+      fmt::print("{}: {}\n", name, why);
+      continue;
+    }
+    const BrickType& t = k->type;
+    fmt::print("{}: {} [{}]{}{}\n", t.part, t.name, t.kind, t.baseplate ? " baseplate" : "",
+               k->carried_reason.empty() ? "" : " CARRIED: " + k->carried_reason);
+    fmt::print("  mass {:.3f} g ({})\n", t.mass_g, t.mass_source);
+    static const char* kDir[6] = {"+x", "-x", "+y(down)", "-y(up)", "+z", "-z"};
+    for (const Box& b : t.shape.body)
+      fmt::print("  body  x {:g}..{:g}  y {:g}..{:g}  z {:g}..{:g}\n", b.min[0], b.max[0], b.min[1],
+                 b.max[1], b.min[2], b.max[2]);
+    for (const Connector& c : t.shape.studs)
+      fmt::print("  stud        ({:g}, {:g}, {:g}) {}\n", c.at[0], c.at[1], c.at[2],
+                 kDir[c.direction]);
+    for (const Connector& c : t.shape.receptacles)
+      fmt::print("  receptacle  ({:g}, {:g}, {:g}) {}\n", c.at[0], c.at[1], c.at[2],
+                 kDir[c.direction]);
+  }
+  return 0;
+}
