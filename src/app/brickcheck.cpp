@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> files;
   std::string ldraw_dir, ground = "baseplate", heatmap, main_model;
   std::vector<std::string> load_texts, ground_part_texts;
-  double min_cm = 0;
+  double min_cm = 0, max_seconds = 60;
   bool json = false, steps = false, quiet = false, strict = false;
   app.add_option("files", files, "LDraw models to check")->required();
   app.add_option("--ldraw-dir", ldraw_dir,
@@ -74,6 +74,9 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   app.add_option("--min-cm", min_cm, "stability threshold for C_M in grams-force (default 0)");
   app.add_option("--main", main_model, "the MPD model to check instead of the first FILE");
+  app.add_option("--max-seconds", max_seconds,
+                 "give up on a model's stability after this long: exit 4, undecided (default 60)")
+      ->check(CLI::PositiveNumber);
   app.add_flag("--json", json, "print JSON on stdout (docs/brickcheck-json.md)");
   app.add_option("--heatmap", heatmap,
                  "write the model coloured by per-brick capacity to this .ldr");
@@ -103,6 +106,7 @@ int main(int argc, char** argv) {
   options.stability.ground =
       ground == "table" ? physics::GroundMode::Table : physics::GroundMode::Baseplate;
   options.min_cm_gf = min_cm;
+  options.stability.max_seconds = max_seconds;
   options.steps = steps;
   options.brick_capacity = !heatmap.empty();
   try {

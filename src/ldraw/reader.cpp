@@ -388,20 +388,15 @@ class Flattener {
     model_.author = main->author;
     model_.ldraw_org = main->ldraw_org;
     model_.main_block = main->name;
-    Step step;
     stack_.push_back(main);
     for (const Entry& entry : main->entries) {
       if (const auto* mark = std::get_if<StepMark>(&entry)) {
-        step.rotstep = mark->rotstep;
-        model_.steps.push_back(step);
-        step = Step{step.number + 1, 0, {}};
+        end_step(mark->rotstep);
         continue;
       }
-      size_t before = model_.parts.size();
-      expand(doc, std::get<RefLine>(entry), Transform{}, kMainColor, step.number, "");
-      step.parts += int(model_.parts.size() - before);
+      expand(doc, std::get<RefLine>(entry), Transform{}, kMainColor, "");
     }
-    if (step.parts > 0 || model_.steps.empty()) model_.steps.push_back(step);
+    if (parts_in_step() > 0 || model_.steps.empty()) end_step({});
   }
 
  private:
@@ -413,6 +408,18 @@ class Flattener {
   std::vector<const Block*> stack_;
   CaseInsensitiveFinder finder_;
   bool budget_exceeded_ = false;
+  // Building steps: the main model's, and a submodel's own where it is first placed (as LPub3D
+  // and LeoCAD show them: its steps, then the rest of the step that places it).
+  int step_ = 1;
+  size_t step_start_ = 0;  // parts placed before the current step
+  std::set<const Block*> placed_;
+
+  int parts_in_step() const { return int(model_.parts.size() - step_start_); }
+  void end_step(const std::string& rotstep) {
+    model_.steps.push_back(Step{step_, parts_in_step(), rotstep});
+    ++step_;
+    step_start_ = model_.parts.size();
+  }
   std::set<std::pair<std::string, int>> singular_reported_;
 
   void diag(Severity s, const Document& doc, int line, std::string msg) {
@@ -481,7 +488,7 @@ class Flattener {
   }
 
   void add_part(const Document& doc, const RefLine& ref, const Transform& world, int color,
-                int step, const std::string& submodel, fs::path definition, std::string embedded) {
+                const std::string& submodel, fs::path definition, std::string embedded) {
     if (model_.parts.size() >= options_.max_parts) {
       if (!budget_exceeded_)
         diag(Severity::Error, doc, ref.line,
@@ -497,7 +504,7 @@ class Flattener {
     p.transform = world;
     p.file = doc.file;
     p.line = ref.line;
-    p.step = step;
+    p.step = step_;
     p.submodel = submodel;
     p.definition = std::move(definition);
     p.embedded_definition = std::move(embedded);
@@ -505,7 +512,7 @@ class Flattener {
   }
 
   void expand(const Document& doc, const RefLine& ref, const Transform& parent, int parent_color,
-              int step, const std::string& submodel) {
+              const std::string& submodel) {
     if (budget_exceeded_) return;
     // Checked here, not while parsing: part definitions may scale primitives to nothing.
     if (std::abs(ref.transform.determinant()) < 1e-9) {
@@ -524,26 +531,24 @@ class Flattener {
       }
     // 1. A block of the same MPD.
     if (const Block* target = doc.find(ref.name)) {
-      if (target->is_part())
-        return add_part(doc, ref, world, color, step, submodel, {}, target->name);
-      return descend(doc, *target, ref, world, color, step);
+      if (target->is_part()) return add_part(doc, ref, world, color, submodel, {}, target->name);
+      return descend(doc, *target, ref, world, color);
     }
     // 2. A file next to the including file, then 3. the LDraw libraries.
     if (auto local = finder_.find(doc.dir, ref.name)) {
-      if (header_says_part(*local))
-        return add_part(doc, ref, world, color, step, submodel, *local, {});
+      if (header_says_part(*local)) return add_part(doc, ref, world, color, submodel, *local, {});
       const Document* sub = external_document(*local);
       if (!sub || sub->blocks.empty()) return;
-      return descend(*sub, sub->blocks.front(), ref, world, color, step);
+      return descend(*sub, sub->blocks.front(), ref, world, color);
     }
     for (const fs::path& lib : options_.library_dirs) {
       for (const char* folder : {"parts", "p", "unofficial/parts", "unofficial/p"})
         if (auto found = finder_.find(lib / folder, ref.name))
-          return add_part(doc, ref, world, color, step, submodel, *found, {});
+          return add_part(doc, ref, world, color, submodel, *found, {});
       if (auto found = finder_.find(lib / "models", ref.name)) {
         const Document* sub = external_document(*found);
         if (!sub || sub->blocks.empty()) return;
-        return descend(*sub, sub->blocks.front(), ref, world, color, step);
+        return descend(*sub, sub->blocks.front(), ref, world, color);
       }
     }
     std::string ext = lower(fs::path(ref.name).extension().string());
@@ -551,11 +556,11 @@ class Flattener {
       diag(Severity::Error, doc, ref.line, fmt::format("missing submodel '{}'", ref.name));
       return;
     }
-    add_part(doc, ref, world, color, step, submodel, {}, {});  // a part with no definition here
+    add_part(doc, ref, world, color, submodel, {}, {});  // a part with no definition here
   }
 
   void descend(const Document& doc, const Block& target, const RefLine& ref, const Transform& world,
-               int color, int step) {
+               int color) {
     if (std::find(stack_.begin(), stack_.end(), &target) != stack_.end()) {
       std::string chain;
       for (const Block* b : stack_) chain += b->name + " -> ";
@@ -571,9 +576,13 @@ class Flattener {
         model_.submodels.end())
       model_.submodels.push_back(target.name);
     stack_.push_back(&target);
-    for (const Entry& entry : target.entries)
+    const bool first = placed_.insert(&target).second;
+    for (const Entry& entry : target.entries) {
       if (const auto* child = std::get_if<RefLine>(&entry))
-        expand(doc, *child, world, color, step, target.name);
+        expand(doc, *child, world, color, target.name);
+      else if (first && parts_in_step() > 0)  // its own step, the first time it is placed
+        end_step(std::get<StepMark>(entry).rotstep);
+    }
     stack_.pop_back();
   }
 };

@@ -10,6 +10,8 @@ namespace {
 
 // LDraw files write matrices with a few decimals: "0.57 0.82" is a rotation to a hundredth.
 constexpr double kRotationTolerance = 1e-2;
+// A rotation this close to a quarter turn (about a degree) is taken as that quarter turn.
+constexpr double kQuarterTurnTolerance = 2e-2;
 
 double dot3(const double* a, const double* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -159,7 +161,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     }
     std::optional<std::array<double, 9>> turn;
     if (carried_reason.empty()) {
-      turn = quarter_turn(rotation, kRotationTolerance);
+      turn = quarter_turn(rotation, kQuarterTurnTolerance);
       if (!turn) carried_reason = "turned by an angle that is not a multiple of 90 degrees";
     }
     Pose pose;

@@ -1,5 +1,7 @@
 #include "parts/part_files.h"
 
+#include <fmt/format.h>
+
 #include <cctype>
 #include <fstream>
 #include <sstream>
@@ -99,7 +101,7 @@ std::optional<PartFile> LibraryFiles::read(const fs::path& path, std::string& wh
 std::optional<PartFile> LibraryFiles::find(std::string_view reference, std::string& why) {
   const std::string name = safe_reference(reference);
   if (name.empty()) {
-    why = "refused: '" + std::string(reference) + "' points outside the library";
+    why = fmt::format("refused: '{}' points outside the library", reference);
     return std::nullopt;
   }
   auto known = found_.find(name);
@@ -119,7 +121,7 @@ std::optional<PartFile> LibraryFiles::find(std::string_view reference, std::stri
     known = found_.emplace(name, key).first;
   }
   if (!known->second) {
-    why = "'" + std::string(reference) + "' is not in the LDraw library";
+    why = fmt::format("'{}' is not in the LDraw library", reference);
     return std::nullopt;
   }
   return PartFile{*known->second, texts_.at(*known->second).get()};

@@ -101,8 +101,8 @@ std::string render_heatmap(const Audit& a) {
     const auto& p = a.model.parts[i];
     out += fmt::format("1 {} {} {} {}", colour[i], number(p.transform.pos[0]),
                        number(p.transform.pos[1]), number(p.transform.pos[2]));
-    for (double m : p.transform.rot) out += " " + number(m);
-    out += " " + p.reference + "\n";
+    for (double m : p.transform.rot) out += fmt::format(" {}", number(m));
+    out += fmt::format(" {}\n", p.reference);
   }
   return out;
 }

@@ -84,6 +84,53 @@ TEST(Reader, RecordsStepsAndRotsteps) {
   EXPECT_EQ(m.parts[2].step, 3);
 }
 
+// Steps inside a submodel count where it is first placed, as LPub3D and LeoCAD show them: its
+// own steps, then the rest of the step that places it; placed again, it comes whole.
+TEST(Reader, SubmodelStepsCountWhereItIsFirstPlaced) {
+  Model m = read_text(
+      "0 FILE main.ldr\n"
+      "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"     // step 1
+      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 wall.ldr\n"           // the wall's steps: 2, 3
+      "1 4 0 -96 0 1 0 0 0 1 0 0 0 1 3003.dat\n0 STEP\n"   // the step that places it: 4
+      "1 4 80 -24 0 1 0 0 0 1 0 0 0 1 wall.ldr\n0 STEP\n"  // step 5: the wall whole
+      "0 FILE wall.ldr\n"
+      "1 16 0 0 0 1 0 0 0 1 0 0 0 1 3004.dat\n0 STEP\n"
+      "1 16 0 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n0 STEP\n",
+      "main.mpd");
+  ASSERT_FALSE(m.has_errors());
+  std::vector<int> steps;
+  for (const auto& p : m.parts) steps.push_back(p.step);
+  EXPECT_EQ(steps, (std::vector<int>{1, 2, 3, 4, 5, 5}));
+  ASSERT_EQ(m.steps.size(), 5u);
+  int parts = 0;
+  for (const auto& s : m.steps) parts += s.parts;
+  EXPECT_EQ(parts, 6);
+}
+
+// Real files are forgiving where LDraw tools are: an unknown colour code is a warning (LeoCAD
+// draws the part), and old Mac files end lines with a bare CR that must not reach a name.
+TEST(Reader, UnknownColoursAndBareCarriageReturns) {
+  Model m = read_text(
+      "0 m\n1 4294967295 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 blue 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n",
+      "colours.ldr");
+  EXPECT_FALSE(m.has_errors());
+  ASSERT_EQ(m.parts.size(), 2u);
+  EXPECT_EQ(m.parts[0].color, kMainColor);
+  ASSERT_NE(find_diag(m, "unknown colour '4294967295'"), nullptr);
+  EXPECT_EQ(find_diag(m, "unknown colour '4294967295'")->line, 2);
+  Model mac = read_text(
+      "0 Old Mac\r1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\r"
+      "1 4 0 -48 0 1 0 0 0 1 0 0 0 1 3003.dat\r\n",
+      "mac.ldr");
+  ASSERT_EQ(mac.parts.size(), 2u);
+  EXPECT_EQ(mac.title, "Old Mac");
+  EXPECT_EQ(mac.parts[0].part, "3001");
+  EXPECT_EQ(mac.parts[0].line, 2);
+  EXPECT_EQ(mac.parts[1].part, "3003");
+  EXPECT_EQ(mac.parts[1].line, 3);
+}
+
 TEST(Reader, MalformedTypeOneLineIsAnErrorWithItsLine) {
   Model m = read_text("0 m\n1 4 0 0 zero 1 0 0 0 1 0 0 0 1 3001.dat\n1 4 0 0 0 1 0 0 0 1 0 0 0 1\n",
                       "bad.ldr");

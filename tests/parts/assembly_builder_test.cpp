@@ -1,8 +1,78 @@
+// Placed parts into an Assembly: analysed with their exact pose, carried, or left out with why.
 #include <gtest/gtest.h>
 
+#include "ldraw/writer.h"
 #include "parts/assembly_builder.h"
 #include "test_paths.h"
 
 namespace lego::parts {
-namespace {}  // namespace
+namespace {
+
+using ldraw::read_text;
+
+TEST(ToAssembly, TurnsByQuarterTurnsAreAnalysedOtherAnglesCarried) {
+  ldraw::Model m = read_text(
+      "0 t\n"
+      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"                   // upright
+      "1 4 0 -48 0 0 0 1 0 1 0 -1 0 0 3001.dat\n"                  // turned 90 degrees
+      "1 4 5 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"                   // 5 LDU off: analysed
+      "1 4 0 -24 0 1 0 0 0 -1 0 0 0 -1 3001.dat\n"                 // upside down: analysed
+      "1 4 0 -24 0 0 1 0 -1 0 0 0 0 1 3001.dat\n"                  // on its side: analysed
+      "1 4 0 -24 0 0.57 0 0.82 0 1 0 -0.82 0 0.57 3001.dat\n"      // 55 degrees, 2 decimals
+      "1 4 0 -24 0 2 0 0 0 1 0 0 0 1 3001.dat\n"                   // scaled
+      "1 4 0 -24 0 0.9999 0 0.01 0 1 0 -0.01 0 0.9999 3001.dat\n"  // a rotation to 1e-2
+      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3068b.dat\n",                 // no part file here
+      "t.ldr");
+  PartLibrary library({}, BrickCatalog::standard());
+  auto conv = to_assembly(m, library);
+  ASSERT_EQ(conv.assembly.bricks.size(), 6u);
+  EXPECT_EQ(conv.brick_part, (std::vector<size_t>{0, 1, 2, 3, 4, 7}));
+  ASSERT_EQ(conv.assembly.carried.size(), 2u);
+  EXPECT_NE(conv.assembly.carried[0].reason.find("not a multiple of 90"), std::string::npos);
+  EXPECT_EQ(conv.assembly.carried[0].source.line, 7);
+  EXPECT_NE(conv.assembly.carried[1].reason.find("scaled or sheared"), std::string::npos);
+  EXPECT_EQ(conv.assembly.carried[1].mass_g, 2.20);  // carried parts keep their weight
+  ASSERT_EQ(conv.skipped.size(), 1u);
+  EXPECT_EQ(m.parts[conv.skipped[0].part].line, 10);
+  EXPECT_NE(conv.skipped[0].reason.find("no part file"), std::string::npos);
+  // The near rotation is made exact, with a warning naming its line.
+  ASSERT_EQ(conv.diagnostics.size(), 1u);
+  EXPECT_EQ(conv.diagnostics[0].line, 9);
+  EXPECT_EQ(conv.assembly.bricks[5].pose->rotation,
+            (std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1}));
+  // Poses are LDraw's own: written back, the bricks land where they were read.
+  const auto t = ldraw::brick_transform(conv.assembly.bricks[2], conv.assembly.origin_ldu);
+  EXPECT_EQ(t.pos, (std::array<double, 3>{5, -24, 0}));
+}
+
+// A model drawn turned as a whole (a car tilted by a degree on its springs) is analysed in its own
+// frame, with a warning.
+TEST(ToAssembly, AModelTurnedAsAWholeIsAnalysedInItsFrame) {
+  std::string text =
+      "0 FILE tilted.ldr\n0 t\n"
+      "1 16 0 0 0 1 0 0 0 0.999848 -0.0174524 0 0.0174524 0.999848 car.ldr\n"
+      "0 FILE car.ldr\n";
+  for (int k = 0; k < 5; ++k)
+    text += "1 4 0 " + std::to_string(-24 * (k + 1)) + " 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  ldraw::Model m = read_text(text, "tilted.mpd");
+  PartLibrary library({}, BrickCatalog::standard());
+  auto conv = to_assembly(m, library);
+  EXPECT_EQ(conv.assembly.bricks.size(), 5u);
+  EXPECT_TRUE(conv.assembly.carried.empty());
+  ASSERT_FALSE(conv.diagnostics.empty());
+  EXPECT_NE(conv.diagnostics[0].message.find("turned together by 1.0 degrees"), std::string::npos);
+}
+
+TEST(ToAssembly, OrthonormalizedAndQuarterTurns) {
+  auto r = orthonormalized({0.57, 0, 0.82, 0, 1, 0, -0.82, 0, 0.57}, 1e-2);
+  ASSERT_TRUE(r);
+  EXPECT_NEAR((*r)[0] * (*r)[0] + (*r)[6] * (*r)[6], 1, 1e-12);
+  EXPECT_FALSE(orthonormalized({2, 0, 0, 0, 1, 0, 0, 0, 1}, 1e-2));
+  EXPECT_FALSE(quarter_turn(*r, 1e-2));
+  auto q = quarter_turn({0, 0, 0.999, 0, -1, 0, 1, 0, 0}, 1e-2);
+  ASSERT_TRUE(q);
+  EXPECT_EQ(*q, (std::array<double, 9>{0, 0, 1, 0, -1, 0, 1, 0, 0}));
+}
+
+}  // namespace
 }  // namespace lego::parts

@@ -1,8 +1,162 @@
+// What the analysis derives from LDraw part files: the official library's parts (../shared, skipped
+// without it) and small files written here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+
+#include "parts/derive.h"
 #include "parts/part_library.h"
 #include "test_paths.h"
 
 namespace lego::parts {
-namespace {}  // namespace
+namespace {
+
+namespace fs = std::filesystem;
+
+// The knowledge of a part derived from its file in `library`, the catalog's shapes left aside.
+PartKnowledge derived(const fs::path& library, const std::string& part) {
+  LibraryFiles files({library});
+  GeometryCache cache;
+  std::string why;
+  auto file = files.find(part + ".dat", why);
+  if (!file) throw std::runtime_error(why);
+  const FileFinder find = [&](std::string_view reference, std::string& w) {
+    return files.find(reference, w);
+  };
+  auto geometry = cache.flatten(*file, find, why);
+  if (!geometry) throw std::runtime_error(why);
+  return derive_part(part, *geometry, BrickCatalog::standard());
+}
+
+fs::path shared_library() {
+  return test::shared_dir() / "ldraw-library";
+}
+
+std::vector<std::array<double, 4>> sorted(const std::vector<Connector>& connectors) {
+  std::vector<std::array<double, 4>> out;
+  for (const Connector& c : connectors)
+    out.push_back({c.at[0], c.at[1], c.at[2], double(c.direction)});
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The library's own files for the catalog's bricks and plates derive to the shapes the catalog
+// gives them: the derivation reads cavities, tubes and pins as the physics expects.
+TEST(DerivePart, TheBrickFamilyDerivesToTheCatalogShapes) {
+  SKIP_WITHOUT_SHARED();
+  for (const BrickType& t : BrickCatalog::standard().types()) {
+    if (!fs::exists(shared_library() / "parts" / (t.part + ".dat"))) continue;
+    SCOPED_TRACE(t.part);
+    const PartKnowledge k = derived(shared_library(), t.part);
+    const PartShape expected = box_brick_shape(t.length, t.width, t.height, t.has_knobs);
+    EXPECT_EQ(sorted(k.type.shape.studs), sorted(expected.studs));
+    EXPECT_EQ(sorted(k.type.shape.receptacles), sorted(expected.receptacles));
+    ASSERT_EQ(k.type.shape.body.size(), 1u);
+    EXPECT_EQ(k.type.shape.body[0].min, expected.body[0].min);
+    EXPECT_EQ(k.type.shape.body[0].max, expected.body[0].max);
+    EXPECT_TRUE(k.carried_reason.empty());
+  }
+}
+
+// The parts the issue names, as a builder knows them.
+TEST(DerivePart, SlopesRoundPlatesSnotAndBaseplates) {
+  SKIP_WITHOUT_SHARED();
+  // A 45° slope 2 x 1: one stud on its top row, two cells underneath.
+  PartKnowledge slope = derived(shared_library(), "3040b");
+  EXPECT_EQ(slope.type.shape.studs.size(), 1u);
+  EXPECT_EQ(slope.type.shape.receptacles.size(), 2u);
+  // The round plate 1 x 1 draws its body with stud4.dat: a body and a cell, not a tube.
+  PartKnowledge round = derived(shared_library(), "6141");
+  EXPECT_EQ(round.type.shape.studs.size(), 1u);
+  ASSERT_EQ(round.type.shape.receptacles.size(), 1u);
+  EXPECT_EQ(round.type.shape.receptacles[0].at, (Vec3{0, 8, 0}));
+  EXPECT_EQ(round.type.shape.bounds().max[1], 8);
+  // SNOT: the headlight brick's recessed stud and 87087's side stud point to -z; the studs on
+  // top point up (-y in LDraw's frame).
+  for (const char* part : {"4070", "87087"}) {
+    PartKnowledge k = derived(shared_library(), part);
+    int up = 0, side = 0;
+    for (const Connector& s : k.type.shape.studs) {
+      up += s.direction == kMinusY;
+      side += s.direction == kMinusZ;
+    }
+    EXPECT_EQ(up, 1) << part;
+    EXPECT_EQ(side, 1) << part;
+  }
+  // The inverted slope's front studs are drawn long, from inside the body: they stand on top.
+  for (const Connector& s : derived(shared_library(), "3660").type.shape.studs)
+    EXPECT_EQ(s.at[1], 0);
+  // The corner brick has three cells, not the open fourth.
+  EXPECT_EQ(derived(shared_library(), "2357").type.shape.receptacles.size(), 3u);
+  // A baseplate says so, and has no cells under it.
+  PartKnowledge base = derived(shared_library(), "3811");
+  EXPECT_TRUE(base.type.baseplate);
+  EXPECT_EQ(base.type.shape.studs.size(), 1024u);
+  EXPECT_TRUE(base.type.shape.receptacles.empty());
+  EXPECT_NE(base.type.mass_source.find("estimated from its body"), std::string::npos);
+}
+
+TEST(DerivePart, PartsWhoseConnectionsAreNotModelledAreCarried) {
+  SKIP_WITHOUT_SHARED();
+  EXPECT_NE(derived(shared_library(), "3937").carried_reason.find("hinge"), std::string::npos);
+  EXPECT_NE(derived(shared_library(), "3626b").carried_reason.find("minifigure"),
+            std::string::npos);
+  EXPECT_NE(derived(shared_library(), "3641").carried_reason.find("tyre"), std::string::npos);
+  EXPECT_NE(derived(shared_library(), "3855").carried_reason.find("no studs or receptacles"),
+            std::string::npos);
+  // A plate that holds wheels is a plate.
+  EXPECT_TRUE(derived(shared_library(), "2926").carried_reason.empty());
+}
+
+// Written here, without ../shared: the test library of tests/data (tests/data/make_library.py).
+TEST(DerivePart, TheTestLibrary) {
+  const fs::path library = test::data_dir() / "library";
+  PartKnowledge corner = derived(library, "2357");
+  EXPECT_EQ(corner.type.shape.studs.size(), 3u);
+  EXPECT_EQ(corner.type.shape.receptacles.size(), 3u);
+  PartKnowledge jumper = derived(library, "3794b");
+  ASSERT_EQ(jumper.type.shape.studs.size(), 1u);
+  EXPECT_EQ(jumper.type.shape.studs[0].at, (Vec3{0, 0, 0}));
+  EXPECT_EQ(jumper.type.shape.receptacles.size(), 2u);  // either side of its pin
+  PartKnowledge side = derived(library, "87087");
+  EXPECT_EQ(side.type.shape.studs.size(), 2u);
+}
+
+// A part file that fans out (a part placing 20 copies of a subpart that places 20 copies of ...)
+// is bounded, and references that leave the library are refused.
+TEST(DerivePart, FanOutIsBoundedAndReferencesStayInTheLibrary) {
+  const fs::path library = test::scratch("lego_parts_", "fanout");
+  fs::create_directories(library / "parts");
+  fs::create_directories(library / "p");
+  std::ofstream(library / "p" / "leaf.dat") << "0 Leaf\n3 16 0 0 0 1 0 0 0 0 1\n";
+  std::string previous = "leaf.dat";
+  for (int level = 0; level < 6; ++level) {
+    const std::string name = "fan" + std::to_string(level) + ".dat";
+    std::ofstream out(library / "p" / name);
+    out << "0 Fan " << level << "\n";
+    for (int k = 0; k < 20; ++k)
+      out << "1 16 " << k << " 0 0 1 0 0 0 1 0 0 0 1 " << previous << "\n";
+    previous = name;
+  }
+  std::ofstream(library / "parts" / "fan.dat")
+      << "0 Fan\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 " << previous << "\n";
+  std::ofstream(library / "parts" / "escape.dat")
+      << "0 Escape\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 /dev/zero\n"
+      << "1 16 0 0 0 1 0 0 0 1 0 0 0 1 ../../../etc/passwd\n4 16 0 0 0 1 0 0 1 0 1 0 0 1\n";
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_THROW(derived(library, "fan"), std::runtime_error);  // 20^6 faces: refused
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10);
+  LibraryFiles files({library});
+  std::string why;
+  EXPECT_FALSE(files.find("/dev/zero", why));
+  EXPECT_NE(why.find("outside the library"), std::string::npos);
+  EXPECT_FALSE(files.find("..\\..\\x.dat", why));
+  PartKnowledge escape = derived(library, "escape");  // the face it draws, nothing else
+  EXPECT_EQ(escape.type.shape.body.size(), 1u);
+}
+
+}  // namespace
 }  // namespace lego::parts

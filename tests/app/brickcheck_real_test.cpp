@@ -1,0 +1,218 @@
+// brickcheck on what people build: small models written here with the official parts (from
+// ../shared/ldraw-library; skipped without it), each pinning what a builder would say, and the
+// properties every verdict must have.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "app/run_tool.h"
+#include "test_paths.h"
+
+namespace lego {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::run_tool;
+
+std::string library() {
+  return (test::shared_dir() / "ldraw-library").string();
+}
+
+fs::path model(const std::string& name, const std::string& lines) {
+  auto path = test::scratch("lego_real_", name);
+  std::ofstream(path) << "0 " << name << "\n0 Name: " << name << "\n" << lines;
+  return path;
+}
+
+json check(const fs::path& path, int expected_exit, std::vector<std::string> extra = {}) {
+  std::vector<std::string> args = {"--json", "--ldraw-dir", library()};
+  args.insert(args.end(), extra.begin(), extra.end());
+  args.push_back(path.string());
+  auto run = run_tool("brickcheck", args);
+  EXPECT_EQ(run.exit_code, expected_exit) << run.out << run.err;
+  return json::parse(run.out);
+}
+
+// A 45° slope on a brick: its cells take the brick's studs; the brick's weight and its own stand
+// on the ground.
+TEST(BrickcheckReal, SlopeOnABrick) {
+  SKIP_WITHOUT_SHARED();
+  json j = check(model("slope.ldr",
+                       "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n"
+                       "1 4 10 -48 0 0 0 1 0 1 0 -1 0 0 3040b.dat\n"),
+                 0);
+  EXPECT_EQ(j["bricks"], 2);
+  EXPECT_EQ(j["carried"].size(), 0u);
+  EXPECT_EQ(j["components"], 1);
+  EXPECT_NEAR(j["cm_gf"].get<double>(), 71.658, 1e-6);
+}
+
+// Round plates stacked on a brick: each round plate's cell takes the stud under it.
+TEST(BrickcheckReal, A6141Stack) {
+  SKIP_WITHOUT_SHARED();
+  std::string lines = "1 15 0 -24 0 1 0 0 0 1 0 0 0 1 3005.dat\n";
+  for (int k = 0; k < 4; ++k)
+    lines += "1 4 0 " + std::to_string(-32 - 8 * k) + " 0 1 0 0 0 1 0 0 0 1 6141.dat\n";
+  json j = check(model("round.ldr", lines), 0);
+  EXPECT_EQ(j["bricks"], 5);
+  EXPECT_EQ(j["components"], 1);
+  EXPECT_EQ(j["carried"].size(), 0u);
+}
+
+// SNOT: a plate on the headlight brick's side stud is held by that stud, sideways. Its weight
+// pulls on the stud's friction, so C_M is below T, and the bottleneck is that connection.
+TEST(BrickcheckReal, APlateOnA4070SideStud) {
+  SKIP_WITHOUT_SHARED();
+  auto path = model("snot.ldr",
+                    "1 15 0 -24 0 1 0 0 0 1 0 0 0 1 4070.dat\n"
+                    "1 4 0 -14 -14 1 0 0 0 0 -1 0 1 0 3024.dat\n");
+  json j = check(path, 0);
+  EXPECT_EQ(j["bricks"], 2);
+  EXPECT_EQ(j["components"], 1) << "the side stud snaps";
+  const double cm = j["cm_gf"].get<double>();
+  EXPECT_LT(cm, 71.658);
+  EXPECT_GT(cm, 60);
+  ASSERT_FALSE(j["weakest"].empty());
+  EXPECT_EQ(j["weakest"][0]["a"]["part"], "4070");
+  EXPECT_EQ(j["weakest"][0]["b"]["part"], "3024");
+  // The same model turned 90° about the vertical, and mirrored, has the same C_M.
+  auto turned = model("snot-turned.ldr",
+                      "1 15 0 -24 0 0 0 1 0 1 0 -1 0 0 4070.dat\n"
+                      "1 4 -14 -14 0 0 1 0 0 0 -1 -1 0 0 3024.dat\n");
+  EXPECT_NEAR(check(turned, 0)["cm_gf"].get<double>(), cm, 1e-6);
+  auto mirrored = model("snot-mirrored.ldr",
+                        "1 15 0 -24 0 1 0 0 0 1 0 0 0 -1 4070.dat\n"
+                        "1 4 0 -14 14 1 0 0 0 0 -1 0 -1 0 3024.dat\n");
+  EXPECT_NEAR(check(mirrored, 0)["cm_gf"].get<double>(), cm, 1e-6);
+}
+
+// A brick resting on a tile is held by its weight alone: it reaches the ground through the tile
+// (a face contact from below) without a snap, and pulls nothing.
+TEST(BrickcheckReal, ABrickRestingOnATile) {
+  SKIP_WITHOUT_SHARED();
+  json j = check(model("tile.ldr",
+                       "1 7 0 -8 0 1 0 0 0 1 0 0 0 1 3068b.dat\n"
+                       "1 4 0 -32 0 1 0 0 0 1 0 0 0 1 3003.dat\n"),
+                 0);
+  EXPECT_EQ(j["bricks"], 2);
+  EXPECT_EQ(j["components"], 2) << "resting is not a snap";
+  EXPECT_TRUE(j["floating"].empty());
+  EXPECT_NEAR(j["cm_gf"].get<double>(), 71.658, 1e-6);
+  // Lift the tile away: the brick floats, and the model says so (exit 1) with the part named.
+  json lifted = check(model("no-tile.ldr",
+                            "1 7 100 -8 0 1 0 0 0 1 0 0 0 1 3068b.dat\n"
+                            "1 4 0 -32 0 1 0 0 0 1 0 0 0 1 3003.dat\n"),
+                      1);
+  ASSERT_EQ(lifted["floating_carried"].size(), 1u);
+  EXPECT_EQ(lifted["floating_carried"][0]["line"], 4);
+}
+
+// A hinge between two walls: its halves are carried, and where they touch both walls they are an
+// assumed-rigid joint, listed with their lines, which holds the upper wall up.
+TEST(BrickcheckReal, AHingeJoiningTwoWalls) {
+  SKIP_WITHOUT_SHARED();
+  auto path = model("hinge.ldr",
+                    "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n"
+                    "1 15 0 -48 0 -1 0 0 0 1 0 0 0 -1 3937.dat\n"
+                    "1 15 0 -48 0 1 0 0 0 1 0 0 0 1 3938.dat\n"
+                    "1 4 0 -72 0 1 0 0 0 1 0 0 0 1 3004.dat\n");
+  json j = check(path, 0);
+  EXPECT_EQ(j["bricks"], 2);
+  EXPECT_EQ(j["carried"].size(), 2u);
+  EXPECT_TRUE(j["floating"].empty());
+  ASSERT_EQ(j["joints"].size(), 1u);
+  EXPECT_EQ(j["joints"][0]["through"].size(), 2u);
+  EXPECT_EQ(j["joints"][0]["joins"].size(), 2u);
+  EXPECT_EQ(j["components"], 1);
+  auto text = run_tool("brickcheck", {"--ldraw-dir", library(), path.string()});
+  EXPECT_NE(text.out.find("assumed rigid joint through hinge.ldr:4 3937"), std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("hinge.ldr:4 3937 White at (0, -48, 0): a hinge"), std::string::npos);
+  EXPECT_EQ(run_tool("brickcheck", {"--strict", "--ldraw-dir", library(), path.string()}).exit_code,
+            3)
+      << "--strict fails a verdict that assumes";
+}
+
+// A car on its tyres, on a table: the tyres are carried, reach the lowest plane, and hold it up.
+TEST(BrickcheckReal, ACarOnTyresOnATable) {
+  SKIP_WITHOUT_SHARED();
+  json j = check(test::shared_dir() / "ldraw-models" / "car.ldr", 0, {"--ground", "table"});
+  EXPECT_EQ(j["skipped"].size(), 0u);
+  EXPECT_TRUE(j["floating"].empty());
+  EXPECT_TRUE(j["floating_carried"].empty());
+  EXPECT_FALSE(j["cm_gf"].is_null());
+  bool tyre = false;
+  for (const auto& c : j["carried"]) tyre = tyre || c["part"] == "3641";
+  EXPECT_TRUE(tyre);
+}
+
+// A building on a baseplate: the baseplate is the ground; a brick cantilevered from a column on
+// it pulls on the column's studs, not on the baseplate's.
+TEST(BrickcheckReal, ABuildingOnA3811) {
+  SKIP_WITHOUT_SHARED();
+  json j = check(model("base.ldr",
+                       "1 2 0 0 0 1 0 0 0 1 0 0 0 1 3811.dat\n"
+                       "1 4 10 -24 10 1 0 0 0 1 0 0 0 1 3005.dat\n"
+                       "1 4 10 -48 10 1 0 0 0 1 0 0 0 1 3005.dat\n"
+                       "1 14 80 -72 10 1 0 0 0 1 0 0 0 1 3008.dat\n"),
+                 0);
+  ASSERT_EQ(j["fixed"].size(), 1u);
+  EXPECT_EQ(j["fixed"][0]["part"], "3811");
+  EXPECT_EQ(j["components"], 1);
+  // A 1x8 held by one knob at its end: as the paper's check, with a 1x1 column.
+  EXPECT_LT(j["cm_gf"].get<double>(), 71.658);
+  EXPECT_EQ(j["weakest"][0]["b"]["part"], "3008");
+  // A part the user names is ground too.
+  json named = check(model("named.ldr",
+                           "1 4 10 -24 10 1 0 0 0 1 0 0 0 1 3005.dat\n"
+                           "1 4 10 -48 10 1 0 0 0 1 0 0 0 1 3005.dat\n"),
+                     0, {"--ground-part", "4"});
+  ASSERT_EQ(named["fixed"].size(), 1u);
+  EXPECT_EQ(named["fixed"][0]["line"], 4);
+}
+
+// Replacing a carried part by an analysed equivalent never lowers coverage.
+TEST(BrickcheckRealProperty, AnalysingACarriedPartNeverLowersCoverage) {
+  SKIP_WITHOUT_SHARED();
+  const std::string base =
+      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 4 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  const std::string angled = "1 4 -30 -72 -10 0.71 0 0.71 0 1 0 -0.71 0 0.71 3005.dat\n";
+  const std::string upright = "1 4 -30 -72 -10 1 0 0 0 1 0 0 0 1 3005.dat\n";
+  json a = check(model("angled.ldr", base + angled), 0);
+  json b = check(model("upright.ldr", base + upright), 0);
+  EXPECT_EQ(a["carried"].size(), 1u);
+  EXPECT_EQ(b["carried"].size(), 0u);
+  EXPECT_GT(b["bricks"].get<int>(), a["bricks"].get<int>());
+}
+
+// The command line as a pre-commit hook uses it.
+TEST(BrickcheckRealCli, OptionsNeverSwallowFilesAndLibrariesAreChecked) {
+  auto path = model("two.ldr",
+                    "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                    "1 4 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n");
+  auto run = run_tool("brickcheck", {"--json", "--load", "4=50", path.string()});
+  EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_EQ(json::parse(run.out)["file"], path.string());
+  run = run_tool("brickcheck", {"--ground-part", "3", "--load", "4=5", path.string()});
+  EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
+  auto not_a_library = test::scratch("lego_real_", "empty-dir");
+  fs::create_directories(not_a_library);
+  run = run_tool("brickcheck", {"--ldraw-dir", not_a_library.string(), path.string()});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("is not an LDraw library"), std::string::npos) << run.err;
+  run = run_tool("brickcheck", {"--ground-part", "99", path.string()});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.out.find("no part is placed by that line"), std::string::npos) << run.out;
+  for (const char* bad : {"99999999999=5", "5=1e999", "4=-1", "4=nan"})
+    EXPECT_EQ(run_tool("brickcheck", {"--load", bad, path.string()}).exit_code, 2) << bad;
+  EXPECT_EQ(
+      run_tool("brickcheck", {"--load", std::string(60000, '1') + "=5", path.string()}).exit_code,
+      2);
+}
+
+}  // namespace
+}  // namespace lego
