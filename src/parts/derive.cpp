@@ -149,15 +149,26 @@ double snap(double v) {
 // Parts whose connections are not studs in receptacles, by what the library calls them: LDraw
 // names a part by its kind first ("Hinge Plate 1 x 2 ...", "Wheel 11 x 12 ..."), while "Plate
 // 1 x 4 with 2 Wheel Pins" is a plate.
-std::string carried_by_name(const PartGeometry& g) {
+std::string first_word(const PartGeometry& g) {
   std::string_view title = g.title;
   while (!title.empty() && (title.front() == '~' || title.front() == '_' || title.front() == '=' ||
                             title.front() == ' '))
     title.remove_prefix(1);
-  const std::string first(title.substr(0, title.find(' ')));
-  if (g.category.starts_with("Minifig") || first == "Minifig")
-    return "a minifigure part (its joints are not modelled)";
-  if (first == "Hinge") return "a hinge (it turns)";
+  return std::string(title.substr(0, title.find(' ')));
+}
+
+bool minifigure(const PartGeometry& g) {
+  return g.category.starts_with("Minifig") || first_word(g) == "Minifig";
+}
+
+std::string carried_by_name(const PartGeometry& g) {
+  const std::string first = first_word(g);
+  std::string_view title = g.title;
+  while (!title.empty() && (title.front() == '~' || title.front() == '_' || title.front() == '=' ||
+                            title.front() == ' '))
+    title.remove_prefix(1);
+  if (minifigure(g)) return "a minifigure part (its joints are not modelled)";
+  if (first == "Hinge") return "a hinge half without cells of its own (it turns)";
   if (first == "Turntable") return "a turntable (it turns)";
   if (first == "Door" && !title.starts_with("Door Frame")) return "a door (it hangs on hinge pins)";
   if (first == "Wheel" || first == "Tyre" || first == "Tire")
@@ -395,7 +406,12 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
         "estimated from its body ({:.0f} LDU³ at the mean density of the paper's bricks)",
         t.shape.body_volume());
   }
-  if (k.carried_reason.empty()) k.carried_reason = carried_by_name(g);
+  // A part that takes studs in cells of its own is analysed through them, whatever else it does:
+  // a hinge half or a turntable base is held by its studs, and what hangs on its hinge or turns
+  // on it is carried where its own studs meet nothing that stands (report/audit.cpp). Minifigure
+  // parts are carried whatever their cells (PHYSICS.md): a head's cell takes a neck.
+  if (k.carried_reason.empty() && (t.shape.receptacles.empty() || minifigure(g)))
+    k.carried_reason = carried_by_name(g);
   if (k.carried_reason.empty() && t.shape.studs.empty() && t.shape.receptacles.empty())
     k.carried_reason = "no studs or receptacles (its connections are not modelled)";
   return k;

@@ -10,30 +10,6 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Our interior point method on an LP whose columns are all sparse but a few.
-LpSolution solve_interior(const LpData& lp, const IpmOptions& options) {
-  IpmProblem p;
-  p.rows = lp.rows;
-  p.start = lp.start;
-  p.index = lp.index;
-  p.value = lp.value;
-  p.c = lp.objective;
-  p.b = lp.row_lower;
-  p.lower = lp.col_lower;
-  p.upper = lp.col_upper;
-  IpmResult r = solve_interior_point(p, options);
-  LpSolution s;
-  s.iterations = r.iterations;
-  s.message = r.message;
-  if (!r.converged) return s;  // outcome: Failed
-  s.outcome = LpOutcome::Optimal;
-  s.objective = r.objective;
-  s.x = std::move(r.x);
-  s.row_dual = std::move(r.y);
-  s.reduced_cost.resize(s.x.size());
-  for (size_t j = 0; j < s.x.size(); ++j) s.reduced_cost[j] = r.z_lower[j] - r.z_upper[j];
-  return s;
-}
-
 // True when a column boxed at ±bound sits on the box.
 bool touches_box(const LpData& lp, const LpSolution& s, double bound) {
   for (int j = 0; j < lp.columns(); ++j)
@@ -81,6 +57,30 @@ LpData scaled_lp(const EquilibriumSystem& sys, double support_bound) {
       entries.emplace_back(row, -sys.rhs[size_t(row)] / kMaxFrictionLoad);
   lp.add_column(0, kMaxScale, -1, entries);
   return lp;
+}
+
+LpSolution solve_interior(const LpData& lp, const IpmOptions& options) {
+  IpmProblem p;
+  p.rows = lp.rows;
+  p.start = lp.start;
+  p.index = lp.index;
+  p.value = lp.value;
+  p.c = lp.objective;
+  p.b = lp.row_lower;
+  p.lower = lp.col_lower;
+  p.upper = lp.col_upper;
+  IpmResult r = solve_interior_point(p, options);
+  LpSolution s;
+  s.iterations = r.iterations;
+  s.message = r.message;
+  if (!r.converged) return s;  // outcome: Failed
+  s.outcome = LpOutcome::Optimal;
+  s.objective = r.objective;
+  s.x = std::move(r.x);
+  s.row_dual = std::move(r.y);
+  s.reduced_cost.resize(s.x.size());
+  for (size_t j = 0; j < s.x.size(); ++j) s.reduced_cost[j] = r.z_lower[j] - r.z_upper[j];
+  return s;
 }
 
 IpmOptions scale_objective_options() {

@@ -25,6 +25,10 @@ LpData equilibrium_lp(const EquilibriumSystem& sys, double friction_upper, doubl
 // sys.columns() is w, the one dense column.
 LpData scaled_lp(const EquilibriumSystem& sys, double support_bound);
 
+// Our interior point method on an LP whose lower bounds are all finite; Failed when it does not
+// converge.
+LpSolution solve_interior(const LpData& lp, const IpmOptions& options = {});
+
 // Options of our interior point method for an LP whose objective is −w, w the scale of the
 // scaled form: the duality gap is judged by what it does to C_M = T·(1 − 1/w).
 IpmOptions scale_objective_options();

@@ -116,30 +116,24 @@ std::vector<size_t> fixed_parts(const ldraw::Model& model, const std::vector<Lin
   return out;
 }
 
-// PHYSICS.md: a part placed off the stud lattice is carried. Where a part's studs and receptacles
-// meet nothing that stands, that is what happened to it (an ornament on a half-stud offset, a
-// door on its hinge pins, a roof whose supports are carried): such parts become carried, and
-// whether they touch what stands decides if they are held or float.
-void carry_unconnected(Audit& audit, physics::GroundMode ground) {
+// Moves the bricks `carry` marks into the carried parts, with `reason`; loads on them are dropped.
+void carry_bricks(Audit& audit, const std::vector<char>& carry, const std::string& reason) {
   auto& conversion = audit.conversion;
   Assembly& a = conversion.assembly;
-  const auto graph = physics::ContactGraph::build(a, ground);
-  const auto connectivity = physics::analyze_connectivity(int(a.bricks.size()), graph);
-  if (connectivity.floating.empty()) return;
-  std::vector<char> floating(a.bricks.size(), 0);
-  for (int b : connectivity.floating) floating[size_t(b)] = 1;
   std::vector<Brick> bricks;
   std::vector<size_t> brick_part;
+  std::vector<int> index(a.bricks.size(), -1);
   for (size_t i = 0; i < a.bricks.size(); ++i) {
     const Brick& b = a.bricks[i];
-    if (!floating[i]) {
+    if (!carry[i]) {
+      index[i] = int(bricks.size());
       bricks.push_back(b);
       brick_part.push_back(conversion.brick_part[i]);
       continue;
     }
     CarriedPart c;
     c.part = b.type->part;
-    c.reason = "its studs and receptacles meet nothing that stands (off the lattice)";
+    c.reason = reason;
     c.color = b.color;
     c.source = b.source;
     c.mass_g = b.mass_g();
@@ -152,6 +146,57 @@ void carry_unconnected(Audit& audit, physics::GroundMode ground) {
   }
   a.bricks = std::move(bricks);
   conversion.brick_part = std::move(brick_part);
+  std::vector<ExternalLoad> loads;
+  for (ExternalLoad load : a.loads)
+    if (load.brick >= 0 && index[size_t(load.brick)] >= 0) {
+      load.brick = index[size_t(load.brick)];
+      loads.push_back(load);
+    }
+  a.loads = std::move(loads);
+}
+
+// PHYSICS.md: a part placed off the stud lattice is carried. Where a part's studs and receptacles
+// meet nothing that stands, that is what happened to it (an ornament on a half-stud offset, a
+// door on its hinge pins, a roof whose supports are carried): such parts become carried, and
+// whether they touch what stands decides if they are held or float.
+void carry_unconnected(Audit& audit, physics::GroundMode ground) {
+  const Assembly& a = audit.conversion.assembly;
+  const auto graph = physics::ContactGraph::build(a, ground);
+  const auto connectivity = physics::analyze_connectivity(int(a.bricks.size()), graph);
+  if (connectivity.floating.empty()) return;
+  std::vector<char> floating(a.bricks.size(), 0);
+  for (int b : connectivity.floating) floating[size_t(b)] = 1;
+  carry_bricks(audit, floating, "its studs and receptacles meet nothing that stands");
+}
+
+// A part snapped to nothing that stands, resting where it cannot stay (a hinge plate held by its
+// fingers, a flap on a clip), is held by a connection the analysis does not model: it is carried
+// too. Parts snapped into the structure that nothing can hold stay as they are: "no equilibrium"
+// then says so, with them named. Returns whether any part moved.
+bool carry_resting_unbalanced(Audit& audit) {
+  const auto& r = audit.stability;
+  if (r.status != physics::StabilityStatus::NoEquilibrium || r.unbalanced.empty()) return false;
+  const auto& c = r.connectivity;
+  std::vector<char> anchored(size_t(c.component_count), 0);
+  auto ground = [&](int b) { return b == physics::kGround || r.graph.fixed[size_t(b)]; };
+  for (const auto& contact : r.graph.contacts)
+    if (contact.snap() || contact.joint) {
+      if (ground(contact.lower) && !ground(contact.upper))
+        anchored[size_t(c.component[size_t(contact.upper)])] = 1;
+      if (ground(contact.upper) && !ground(contact.lower))
+        anchored[size_t(c.component[size_t(contact.lower)])] = 1;
+    }
+  std::vector<char> resting(size_t(c.component_count), 0);
+  bool any = false;
+  for (int b : r.unbalanced)
+    if (const int k = c.component[size_t(b)]; k >= 0 && !anchored[size_t(k)])
+      resting[size_t(k)] = 1, any = true;
+  if (!any) return false;
+  std::vector<char> carry(audit.conversion.assembly.bricks.size(), 0);
+  for (size_t i = 0; i < carry.size(); ++i)
+    carry[i] = c.component[i] >= 0 && resting[size_t(c.component[i])];
+  carry_bricks(audit, carry, "it rests where it cannot stay, snapped to nothing that stands");
+  return true;
 }
 
 // A part left out has no body, but by LDraw's convention its origin is its top: one at or below
@@ -317,6 +362,9 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
   audit.load_notes = apply_loads(audit, options.loads);
   audit.stability = physics::analyze_stability(
       audit.conversion.assembly, with_capacity(options.stability, options.brick_capacity));
+  if (carry_resting_unbalanced(audit))
+    audit.stability = physics::analyze_stability(
+        audit.conversion.assembly, with_capacity(options.stability, options.brick_capacity));
   audit.verdict = verdict_of(audit.stability, options.min_cm_gf);
   if (options.steps) {
     int last = 0;

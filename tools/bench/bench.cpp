@@ -13,11 +13,14 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <map>
 
 #include "layout/reconfigure.h"
 #include "layout/refine.h"
 #include "mesh/mesh.h"
+#include "report/audit.h"
 #include "shapes.h"
 #include "voxel/palette.h"
 #include "voxel/voxelize.h"
@@ -198,6 +201,64 @@ layout::Target teapot_like() {
   });
 }
 
+// brickcheck over the Datsville corpus (../shared/ldraw-corpus/models.txt) with the shared parts
+// library, each model with part knowledge derived afresh (as one brickcheck run pays it): the
+// share of models with a C_M, of part occurrences analysed, carried and left out, the models
+// with floating parts, time per model, and the reasons parts are carried.
+void corpus_section(const fs::path& shared, double max_seconds) {
+  const fs::path corpus = shared / "ldraw-corpus", library = shared / "ldraw-library";
+  std::ifstream list(corpus / "models.txt");
+  if (!list) return;
+  report::AuditOptions options;
+  options.read.library_dirs = {library};
+  options.stability.max_seconds = max_seconds;
+  int models = 0, with_cm = 0, floating = 0, unreadable = 0;
+  size_t parts = 0, analysed = 0, carried = 0, left_out = 0;
+  std::vector<double> times;
+  std::string slowest;
+  std::map<std::string, int> reasons;
+  for (std::string name; std::getline(list, name);) {
+    if (name.empty()) continue;
+    ++models;
+    parts::PartLibrary knowledge(options.read.library_dirs, BrickCatalog::standard());
+    const auto t = Clock::now();
+    report::Audit a;
+    try {
+      a = report::audit_file(corpus / name, options, knowledge);
+    } catch (const std::exception&) {
+      a.verdict = report::Verdict::Unreadable;
+    }
+    times.push_back(seconds_since(t));
+    if (times.back() >= *std::max_element(times.begin(), times.end())) slowest = name;
+    if (a.verdict == report::Verdict::Unreadable) {
+      ++unreadable;
+      continue;
+    }
+    with_cm += a.stability.status == physics::StabilityStatus::Solved;
+    floating += !a.stability.connectivity.all_grounded();
+    parts += a.model.parts.size();
+    analysed += a.conversion.assembly.bricks.size();
+    carried += a.conversion.assembly.carried.size();
+    left_out += a.conversion.skipped.size();
+    for (const auto& c : a.conversion.assembly.carried) ++reasons[c.reason];
+  }
+  if (models == 0) return;
+  auto share = [](double n, double of) { return fmt::format("{:.1f}%", 100 * n / of); };
+  fmt::print("\ncorpus: {} models of {} with {}\n", models, (corpus / "models.txt").string(),
+             library.string());
+  fmt::print("{:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9}  slowest\n", "with_cm", "analysed",
+             "carried", "left_out", "floating", "unreadable", "median_s", "max_s");
+  fmt::print("{:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9}  {}\n", share(with_cm, models),
+             share(double(analysed), double(parts)), share(double(carried), double(parts)),
+             share(double(left_out), double(parts)), share(floating, models), unreadable,
+             number(median(times)), number(*std::max_element(times.begin(), times.end())), slowest);
+  std::vector<std::pair<int, std::string>> ranked;
+  for (const auto& [reason, n] : reasons) ranked.emplace_back(n, reason);
+  std::sort(ranked.rbegin(), ranked.rend());
+  fmt::print("why parts are carried ({} occurrences):\n", carried);
+  for (const auto& [n, reason] : ranked) fmt::print("{:>7}  {}\n", n, reason);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -267,4 +328,5 @@ int main(int argc, char** argv) {
     if (wanted("table-95x50x95")) pipeline_line("table-95x50x95", paper_table(), 1, max_refine);
     if (wanted("teapot-98x40x62")) pipeline_line("teapot-98x40x62", teapot_like(), 1, max_refine);
   }
+  if (wanted("corpus")) corpus_section(source / ".." / "shared", 60);
 }
