@@ -98,6 +98,11 @@ IpmOptions scale_objective_options() {
   return options;
 }
 
+// How much a box the answer touches is widened: ten times at a time. Widened a thousand times at
+// once, the corpus's buildings (supports of a few hundred times a knob's friction in loops of
+// contacts) were solved again in a box our method stalled in, then by Clp's simplex in seconds.
+constexpr double kWiden = 10;
+
 LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
                                 const StabilityOptions& o, std::string& message, LpStats* stats,
                                 bool simplex_fallback, const IpmOptions& ipm) {
@@ -106,7 +111,7 @@ LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
   // free); a bound the solution touches is raised and the LP solved again.
   auto attempt = [&](LpMethod method, double first_bound) {
     LpSolution s;
-    for (double bound = first_bound;; bound = bound < 1e12 ? bound * 1e3 : kInfinity) {
+    for (double bound = first_bound;; bound = bound < 1e12 ? bound * kWiden : kInfinity) {
       const LpData lp = make(bound);
       if (stats) {
         stats->rows = lp.rows;
