@@ -101,6 +101,8 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
     const std::string_view type = next_token(rest);
     if (type == "0") {
       const std::string_view meta = trim(rest);
+      // An MPD's embedded part file starts with its FILE line; the title is the line after.
+      if (first_line && meta.starts_with("FILE ")) return;
       if (first_line) {
         g->title = std::string(meta);
         if (meta.starts_with("~Moved to ")) moved_to = std::string(trim(meta.substr(10)));
