@@ -50,8 +50,7 @@ void rank_weakest(const EquilibriumSystem& sys, const ContactGraph& g,
 // Whether any forces at all balance every body, friction unlimited; when none do, the bodies
 // that cannot be held: min Σ|s| over A·x + s = b puts the smallest virtual force where the
 // equations fail (weights in g·m/s², so a body needs one where s > 0).
-std::optional<std::vector<int>> unbalanced_bodies(const EquilibriumSystem& sys,
-                                                  const StabilityOptions& o) {
+std::optional<std::vector<int>> unbalanced_bodies(const EquilibriumSystem& sys) {
   auto make = [&](double bound) {
     LpData lp = equilibrium_lp(sys, kInfinity, 1.0 / kMaxFrictionLoad, bound);
     for (int r = 0; r < sys.rows; ++r)
@@ -95,7 +94,7 @@ void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, Stabi
     return;
   }
   if (w < kConfirmBelow) {
-    const auto bodies = unbalanced_bodies(sys, o);
+    const auto bodies = unbalanced_bodies(sys);
     // Without a diagnosis, a w at the solver's tolerance of zero is its word that nothing
     // balances (a friction a million times T is no equilibrium either).
     if ((bodies && !bodies->empty()) || (!bodies && w < kZeroScale)) {
@@ -149,7 +148,7 @@ void solve_max_min(const EquilibriumSystem& sys, const StabilityOptions& o, Stab
   if (s.outcome == LpOutcome::Infeasible) {
     r.status = StabilityStatus::NoEquilibrium;
     r.message = "no force distribution balances every brick";
-    if (auto bodies = unbalanced_bodies(sys, o))
+    if (auto bodies = unbalanced_bodies(sys))
       for (size_t i = 0; i < sys.body_of.size(); ++i)
         if (std::binary_search(bodies->begin(), bodies->end(), sys.body_of[i]))
           r.unbalanced.push_back(int(i));
