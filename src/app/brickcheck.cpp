@@ -66,7 +66,8 @@ int main(int argc, char** argv) {
   app.add_option(
          "--load", load_texts,
          "external weight: LINE=GRAMS or FILE:LINE=GRAMS (a brick's top knobs), step:K=GRAMS, "
-         "submodel:NAME=GRAMS (spread over their top knobs); repeatable")
+         "submodel:NAME=GRAMS, top=GRAMS (the highest parts; spread over their top knobs); "
+         "repeatable")
       ->allow_extra_args(false);
   app.add_option("--ground-part", ground_part_texts,
                  "the part this line places is fixed, part of the ground: LINE or FILE:LINE; "

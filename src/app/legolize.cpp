@@ -8,10 +8,12 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "core/brick_catalog.h"
 #include "core/error.h"
+#include "layout/build_order.h"
 #include "layout/reconfigure.h"
 #include "layout/refine.h"
 #include "layout/to_assembly.h"
@@ -102,7 +104,8 @@ int main(int argc, char** argv) {
   size_t max_voxels = 8'000'000;
   double scale = 0, w_c = 1, min_cm = 0, load_top = 0;
   uint64_t seed = 1;
-  bool voxels_only = false, solid = false, no_refine = false, quiet = false;
+  bool voxels_only = false, solid = false, no_refine = false, quiet = false,
+       no_step_analysis = false;
   std::vector<std::string> limits, loads;
   app.add_option(
          "mesh", input,
@@ -171,6 +174,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"baseplate", "table"}))
       ->group(g_physics);
   app.add_flag("--no-refine", no_refine, "skip the stability-aware refinement")->group(g_physics);
+  app.add_flag("--no-step-analysis", no_step_analysis,
+               "order the build steps by studs alone, without analysing each step (each analysis "
+               "costs about half the final one; the report then says so)")
+      ->group(g_physics);
   bool no_local_bounds = false;
   app.add_flag("--no-local-bounds", no_local_bounds,
                "analyse every refinement candidate on the whole model instead of rejecting "
@@ -368,6 +375,47 @@ int main(int argc, char** argv) {
                                  describe(final_result.weakest.front().upper);
     }
     rep.stable = stable;
+    rep.steps_stand = true;
+    if (!voxels_only) {
+      // A building order in which every step stands (the paper's first limitation).
+      t = Clock::now();
+      layout::BuildOrderOptions order_options;
+      order_options.stability = refine.stability;
+      order_options.min_cm_gf = min_cm;
+      order_options.analyse = !no_step_analysis;
+      auto last_progress = Clock::now();
+      order_options.progress = [&](int step, int placed, double seconds) {
+        if (quiet || since(last_progress) < 0.5) return;
+        last_progress = Clock::now();
+        stage(fmt::format("build order: step {}, {} of {} bricks placed ({:.1f} s)", step, placed,
+                          la.assembly.bricks.size(), seconds));
+      };
+      const layout::BuildOrder order = layout::plan_build_order(la.assembly, order_options);
+      const std::vector<int> moved = layout::apply_build_order(la.assembly, order);
+      std::vector<int> layout_id(moved.size());
+      for (size_t k = 0; k < moved.size(); ++k) layout_id[k] = la.layout_id[size_t(moved[k])];
+      la.layout_id = std::move(layout_id);
+      for (size_t k = 0; k < order.steps.size(); ++k) {
+        const layout::BuildStep& bs = order.steps[k];
+        rep.steps.push_back({int(k) + 1, bs.new_bricks, bs.bricks,
+                             bs.status == physics::StabilityStatus::Solved
+                                 ? bs.cm_gf
+                                 : -std::numeric_limits<double>::infinity(),
+                             bs.analysed, bs.stands, bs.why});
+      }
+      rep.held_back = order.held_back;
+      rep.steps_analysed = order_options.analyse;
+      rep.steps_stand = !order_options.analyse || order.all_stand();
+      rep.seconds.emplace_back("build_order", since(t));
+      stage(order_options.analyse
+                ? fmt::format("build order: {} steps, {}; smallest step C_M {}; {} analyses, "
+                              "{:.2f} s",
+                              order.steps.size(),
+                              rep.steps_stand ? "every one stands" : "NOT every one stands",
+                              cm_words(order.min_cm_gf()), order.analyses, order.seconds)
+                : fmt::format("build order: {} steps, not analysed", order.steps.size()));
+      t = Clock::now();
+    }
     rep.bricks = assembly.bricks.size();
     rep.components = rep.components ? rep.components : final_result.connectivity.component_count;
     for (const Brick& b : assembly.bricks) ++rep.bricks_by_part[b.type->part];
@@ -409,7 +457,19 @@ int main(int argc, char** argv) {
                                stable ? "stable" : "UNSTABLE", rep.iterations, rep.accepted,
                                since(start));
     if (!stable) std::cout << "weakest: " << rep.bottleneck << "\n";
-    return stable ? 0 : kExitUnstable;
+    if (!rep.steps.empty() && !rep.steps_analysed) {
+      std::cout << fmt::format("build steps: {}, not analysed (--no-step-analysis)\n",
+                               rep.steps.size());
+    } else if (!rep.steps.empty()) {
+      double smallest = std::numeric_limits<double>::infinity();
+      for (const auto& st : rep.steps) smallest = std::min(smallest, st.cm_gf);
+      std::cout << fmt::format("build steps: {}, {}; smallest step C_M {}\n", rep.steps.size(),
+                               rep.steps_stand ? "every one stands" : "NOT every one stands",
+                               cm_words(smallest));
+      for (const auto& st : rep.steps)
+        if (!st.stands) std::cout << fmt::format("  step {} falls: {}\n", st.step, st.why);
+    }
+    return stable && rep.steps_stand ? 0 : kExitUnstable;
   } catch (const InputError& e) {
     std::cerr << "legolize: " << e.what() << "\n";
     return kExitBadInput;

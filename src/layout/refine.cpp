@@ -103,15 +103,7 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
                        .seconds = std::chrono::duration<double>(Clock::now() - start).count()});
   };
   const int per_round = std::max(1, options.candidates_per_round);
-  // Candidates analysed side by side use one BLAS thread each (physics::set_blas_threads).
-  struct BlasThreads {
-    int previous = 0;
-    explicit BlasThreads(int per_round)
-        : previous(per_round > 1 ? physics::set_blas_threads(1) : 0) {}
-    ~BlasThreads() {
-      if (previous > 0) physics::set_blas_threads(previous);
-    }
-  } blas_threads(per_round);
+  const physics::OneBlasThreadEach blas_threads(per_round > 1);
   while (!(cm > options.min_cm_gf) && fails < options.fail_max && !current.critical.empty()) {
     if (std::chrono::duration<double>(Clock::now() - start).count() > options.max_seconds) {
       out.out_of_time = true;

@@ -46,4 +46,19 @@ IpmResult solve_interior_point(const IpmProblem& problem, const IpmOptions& opti
 // each were slower than one after the other (the threads spin while they wait).
 int set_blas_threads(int threads);
 
+// set_blas_threads(1) for its lifetime when `side_by_side` (analyses run at once), then back.
+class OneBlasThreadEach {
+ public:
+  explicit OneBlasThreadEach(bool side_by_side)
+      : previous_(side_by_side ? set_blas_threads(1) : 0) {}
+  ~OneBlasThreadEach() {
+    if (previous_ > 0) set_blas_threads(previous_);
+  }
+  OneBlasThreadEach(const OneBlasThreadEach&) = delete;
+  OneBlasThreadEach& operator=(const OneBlasThreadEach&) = delete;
+
+ private:
+  int previous_;
+};
+
 }  // namespace lego::physics

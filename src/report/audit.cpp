@@ -44,6 +44,13 @@ int top_studs(const Brick& b) {
 std::vector<std::string> apply_loads(Audit& audit, const std::vector<LoadSpec>& loads) {
   std::vector<std::string> notes;
   auto& assembly = audit.conversion.assembly;
+  double highest = -std::numeric_limits<double>::infinity();
+  std::vector<double> top(assembly.bricks.size(), highest);
+  for (size_t i = 0; i < assembly.bricks.size(); ++i) {
+    for (const Box& b : physics::world_shape(assembly.bricks[i]).body)
+      top[i] = std::max(top[i], b.max[1]);
+    highest = std::max(highest, top[i]);
+  }
   for (const LoadSpec& spec : loads) {
     std::vector<int> targets;
     for (int i = 0; i < int(assembly.bricks.size()); ++i) {
@@ -58,6 +65,9 @@ std::vector<std::string> apply_loads(Audit& audit, const std::vector<LoadSpec>& 
           break;
         case LoadSpec::Target::Submodel:
           hit = normalize_part_name(part.submodel) == normalize_part_name(spec.name);
+          break;
+        case LoadSpec::Target::Top:
+          hit = top[size_t(i)] >= highest - 0.5;
           break;
       }
       if (hit) targets.push_back(i);
@@ -282,7 +292,7 @@ LoadSpec parse_load_spec(const std::string& text) {
   auto fail = [&](const std::string& why) {
     return InputError("", 0,
                       fmt::format("--load '{}': {}; expected LINE=GRAMS, FILE:LINE=GRAMS, "
-                                  "step:K=GRAMS or submodel:NAME=GRAMS",
+                                  "step:K=GRAMS, submodel:NAME=GRAMS or top=GRAMS",
                                   shown, why));
   };
   const auto equals = text.rfind('=');
@@ -296,7 +306,9 @@ LoadSpec parse_load_spec(const std::string& text) {
       g < 0)
     throw fail("the weight must be a finite number of grams, 0 or more");
   spec.grams = g;
-  if (target.starts_with("step:")) {
+  if (target == "top") {
+    spec.target = LoadSpec::Target::Top;
+  } else if (target.starts_with("step:")) {
     spec.target = LoadSpec::Target::Step;
     auto k = whole_number(std::string_view(target).substr(5));
     if (!k) throw fail("the step must be a whole number");

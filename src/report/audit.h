@@ -24,14 +24,15 @@ struct LineSpec {
 
 // An external weight (paper section 7) named the way a builder points at a model.
 struct LoadSpec {
-  enum class Target { Line, Step, Submodel } target = Target::Line;
+  enum class Target { Line, Step, Submodel, Top } target = Target::Line;
   LineSpec line;     // Line
   int number = 0;    // Step: step number
   std::string name;  // Submodel: its name
   double grams = 0;
   std::string text;  // as given, for messages
 };
-// Parses "LINE=GRAMS", "FILE:LINE=GRAMS", "step:K=GRAMS" or "submodel:NAME=GRAMS".
+// Parses "LINE=GRAMS", "FILE:LINE=GRAMS", "step:K=GRAMS", "submodel:NAME=GRAMS" or "top=GRAMS"
+// (the parts whose tops are highest, as legolize --load-top puts it).
 // Throws InputError on anything else (a number out of range, a weight that is not finite).
 LoadSpec parse_load_spec(const std::string& text);
 // Parses "LINE" or "FILE:LINE" (--ground-part). Throws InputError on anything else.

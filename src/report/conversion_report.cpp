@@ -1,6 +1,8 @@
 #include "report/conversion_report.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace lego::report {
 
@@ -34,6 +36,23 @@ nlohmann::json to_json(const ConversionReport& r) {
   for (auto& [stage, s] : r.seconds) seconds[stage] = s;
   j["seconds"] = seconds;
   if (!r.bottleneck.empty()) j["bottleneck"] = r.bottleneck;
+  nlohmann::json steps = nlohmann::json::array();
+  double smallest = std::numeric_limits<double>::infinity();
+  for (const StepReport& s : r.steps) {
+    nlohmann::json step = {{"step", s.step},
+                           {"new_bricks", s.new_bricks},
+                           {"bricks", s.bricks},
+                           {"cm_gf", s.analysed ? number_or_null(s.cm_gf) : nullptr},
+                           {"stands", s.analysed ? nlohmann::json(s.stands) : nullptr}};
+    if (!s.why.empty()) step["why"] = s.why;
+    steps.push_back(step);
+    if (s.analysed) smallest = std::min(smallest, s.cm_gf);
+  }
+  j["steps"] = steps;
+  j["steps_stand"] = r.steps_analysed ? nlohmann::json(r.steps_stand) : nullptr;
+  j["min_step_cm_gf"] =
+      r.steps.empty() || !r.steps_analysed ? nlohmann::json(nullptr) : number_or_null(smallest);
+  j["held_back"] = r.held_back;
   j["seed"] = r.seed;
   j["version"] = r.version;
   return j;

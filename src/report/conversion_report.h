@@ -13,6 +13,15 @@
 
 namespace lego::report {
 
+// The model after one build step (layout/build_order.h), as brickcheck --steps sees it.
+struct StepReport {
+  int step = 0, new_bricks = 0, bricks = 0;
+  double cm_gf = 0;      // -inf (JSON null) when the step has no number
+  bool analysed = true;  // false: neither cm_gf nor stands is known (JSON null)
+  bool stands = false;
+  std::string why;  // when it does not stand
+};
+
 struct ConversionReport {
   std::string input, output;
   std::array<int, 3> voxels{0, 0, 0};  // W, H, D
@@ -30,6 +39,10 @@ struct ConversionReport {
   int rejected_by_bound = 0;
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
   std::string bottleneck;                               // words, when not stable
+  std::vector<StepReport> steps;
+  int held_back = 0;  // bricks moved after their layer's step so that a step stands
+  bool steps_stand = false;
+  bool steps_analysed = true;
   uint64_t seed = 0;
   std::string version;
 };

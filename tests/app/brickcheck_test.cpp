@@ -106,6 +106,9 @@ TEST(Brickcheck, GroundThresholdAndLoads) {
   // 10 g on the beam's top knobs costs (3.08 + 10) / 18 g of capacity.
   json loaded = check_json({"--load", "8=10", bridge('b', 1).string()}, 0);
   EXPECT_NEAR(loaded["cm_gf"].get<double>(), 71.658 - (3.08 + 10) / 18, 1e-6);
+  // The beam is the highest part: top=10 puts the same weight on the same knobs.
+  EXPECT_NEAR(check_json({"--load", "top=10", bridge('b', 1).string()}, 0)["cm_gf"].get<double>(),
+              loaded["cm_gf"].get<double>(), 1e-9);
   json by_step = check_json({"--load", "step:1=10", bridge('b', 1).string()}, 0);
   EXPECT_LT(by_step["cm_gf"].get<double>(), 71.487);
   auto bad = run_tool("brickcheck", {"--load", "heavy", bridge('b', 1).string()});

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 #include "app/run_tool.h"
@@ -180,6 +181,26 @@ double brickcheck_cm(const std::vector<std::string>& args) {
   return j["cm_gf"].get<double>();
 }
 
+// brickcheck --steps on legolize's output reports the steps of legolize's report: each stands
+// as the report says, with the same C_M.
+void expect_brickcheck_steps_agree(const fs::path& model, const nlohmann::json& report) {
+  auto run = run_tool("brickcheck", {"--json", "--steps", model.string()});
+  auto j = nlohmann::json::parse(run.out);
+  if (j.is_array()) j = j[0];
+  const auto& mine = report["steps"];
+  ASSERT_EQ(j["steps"].size(), mine.size()) << run.out;
+  for (size_t k = 0; k < mine.size(); ++k) {
+    const auto &theirs = j["steps"][k], &ours = mine[k];
+    EXPECT_EQ(theirs["step"], ours["step"]);
+    EXPECT_EQ(theirs["bricks"], ours["bricks"]) << "step " << k + 1;
+    EXPECT_EQ(theirs["stable"], ours["stands"]) << "step " << k + 1;
+    if (!ours["cm_gf"].is_null()) {
+      EXPECT_NEAR(theirs["cm_gf"].get<double>(), ours["cm_gf"].get<double>(), 1e-4)
+          << "step " << k + 1;
+    }
+  }
+}
+
 TEST(Legolize, TableNeedsTheRefinementAndEndsStable) {
   // samples/table.obj with 300 g on its top: the first layout is unstable, the refinement
   // staggers the seams of the span (the numbers below are the sample's headline, seed 1).
@@ -205,9 +226,14 @@ TEST(Legolize, TableNeedsTheRefinementAndEndsStable) {
   for (const char* key : {"input", "bricks", "bricks_by_part", "iterations", "seconds", "seed",
                           "version", "cm_gf_initial", "cm_gf_final", "stable", "accepted"})
     EXPECT_TRUE(r.contains(key)) << key;
-  // brickcheck, with the same weight on the top layer (step 7), agrees with the report.
-  EXPECT_NEAR(brickcheck_cm({"--json", "--load", "step:7=300", out.string()}),
+  // brickcheck, with the same weight on the top layer, agrees with the report.
+  EXPECT_NEAR(brickcheck_cm({"--json", "--load", "top=300", out.string()}),
               r["cm_gf_final"].get<double>(), 1e-4);
+  // The table top is a cantilever built outwards from the legs: its steps all stand, and
+  // brickcheck --steps finds the same C_M for each.
+  EXPECT_TRUE(r["steps_stand"].get<bool>());
+  EXPECT_GT(r["steps"].size(), 7u);
+  expect_brickcheck_steps_agree(out, r);
   // The parts list adds up to the bricks, per part as in the report.
   std::ifstream csv(parts);
   std::string line;
@@ -245,18 +271,79 @@ TEST(Legolize, LayersAreBuildStepsAndTheSameSeedGivesTheSameFile) {
   EXPECT_FALSE(body(a) == body(c));
   ldraw::Model m = ldraw::read_file(a);
   EXPECT_FALSE(m.has_errors());
-  EXPECT_EQ(m.steps.size(), 8u);  // one step per layer
+  EXPECT_GE(m.steps.size(), 8u);  // a step per layer, and more where bricks hang
   EXPECT_NE(text(a).find("0 Name: a.ldr"), std::string::npos);
   EXPECT_NE(text(a).find("0 Author: legolize"), std::string::npos);
-  // Layers go bottom up: every step's bricks sit above the previous step's.
-  double last_y = 1e9;
+  // Layers go bottom up: no step starts below the lowest brick of the step before it.
+  double last_bottom = 1e9;
   for (const auto& step : m.steps) {
-    double y = -1e9;
+    double bottom = -1e9;
     for (const auto& p : m.parts)
-      if (p.step == step.number) y = std::max(y, p.transform.pos[1]);
-    EXPECT_LT(y, last_y);  // LDraw's -y is up
-    last_y = y;
+      if (p.step == step.number) bottom = std::max(bottom, p.transform.pos[1]);
+    EXPECT_LE(bottom, last_bottom + 24);  // LDraw's -y is up; a hanging brick is a layer lower
+    last_bottom = std::min(last_bottom, bottom);
   }
+  // And every step stands as it is built.
+  EXPECT_EQ(run_tool("brickcheck", {"--steps", "--quiet", a.string()}).exit_code, 0);
+}
+
+// A mushroom: a 4 x 4 stud stem under a 12 x 12 cap three bricks thick, in millimetres.
+fs::path mushroom() {
+  auto obj = scratch("mushroom.obj");
+  {
+    std::ofstream out(obj);
+    int base = 0;
+    auto box = [&](double x0, double y0, double z0, double x1, double y1, double z1) {
+      for (int i = 0; i < 8; ++i)
+        out << "v " << (i & 1 ? x1 : x0) << " " << (i & 2 ? y1 : y0) << " " << (i & 4 ? z1 : z0)
+            << "\n";
+      const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                               {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+      for (const auto& f : faces)
+        out << "f " << base + f[0] + 1 << " " << base + f[1] + 1 << " " << base + f[2] + 1 << " "
+            << base + f[3] + 1 << "\n";
+      base += 8;
+    };
+    // In millimetres (--scale 1): a stud is 8 mm, a brick 9.6 mm.
+    box(32, 0, 32, 64, 4 * 9.6, 64);      // the stem, 4 bricks high
+    box(0, 4 * 9.6, 0, 96, 7 * 9.6, 96);  // the cap, 3 bricks thick
+  }
+  return obj;
+}
+
+// Built layer by layer,
+// the cap's lowest layer hangs outside the stem from the layer above it; the order places those
+// bricks in the step after the bricks that hold them, and every step stands.
+TEST(Legolize, BricksHangingFromTheLayerAboveComeAfterTheirHolders) {
+  auto obj = mushroom();
+  auto out = scratch("mushroom.ldr"), report = scratch("mushroom.json");
+  auto run = run_tool("legolize", {obj.string(), "--scale", "1", "--solid", "-o", out.string(),
+                                   "--report", report.string()});
+  ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
+  const auto r = read_json(report);
+  EXPECT_TRUE(r["steps_stand"].get<bool>());
+  ASSERT_GT(r["steps"].size(), 7u);  // more steps than layers: the hanging bricks wait
+  EXPECT_FALSE(r["min_step_cm_gf"].is_null());
+  expect_brickcheck_steps_agree(out, r);
+  // Taken layer by layer instead, a step would have bricks in the air: check the claim on the
+  // file, with the steps renumbered by layer.
+  ldraw::Model m = ldraw::read_file(out);
+  std::ostringstream by_layer;
+  by_layer << "0 mushroom by layer\n";
+  std::map<double, std::vector<const ldraw::PlacedPart*>> layers;
+  for (const auto& p : m.parts) layers[-p.transform.pos[1]].push_back(&p);
+  for (const auto& [y, parts] : layers) {
+    for (const auto* p : parts) {
+      by_layer << "1 " << p->color;
+      for (double v : p->transform.pos) by_layer << " " << v;
+      for (double v : p->transform.rot) by_layer << " " << v;
+      by_layer << " " << p->reference << "\n";
+    }
+    by_layer << "0 STEP\n";
+  }
+  auto layered = scratch("mushroom-by-layer.ldr");
+  std::ofstream(layered) << by_layer.str();
+  EXPECT_EQ(run_tool("brickcheck", {"--steps", "--quiet", layered.string()}).exit_code, 1);
 }
 
 TEST(Legolize, TheRefinementDoesNotDependOnHowManyThreadsTheBlasUses) {
@@ -454,17 +541,58 @@ TEST(Legolize, AWeightOnAVoxelLowersTheMargin) {
 TEST(Legolize, TheBunnyConvertsAndBrickcheckAgrees) {
   SKIP_WITHOUT_SHARED();
   auto out = scratch("bunny40.mpd"), report = scratch("bunny40.json");
-  auto run =
-      run_tool("legolize", {(test::shared_dir() / "meshes" / "bunny.obj").string(), "--height",
-                            "40", "-o", out.string(), "--report", report.string()});
+  auto run = run_tool("legolize",
+                      {(test::shared_dir() / "meshes" / "bunny.obj").string(), "--height", "40",
+                       "--no-step-analysis", "-o", out.string(), "--report", report.string()});
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto r = read_json(report);
   ldraw::Model m = ldraw::read_file(out);
   EXPECT_FALSE(m.has_errors());
   EXPECT_EQ(m.parts.size(), r["bricks"].get<size_t>());
-  EXPECT_EQ(m.submodels.size(), 40u);  // a submodel per layer
+  // A submodel per step: a layer each, and more where bricks hang from the layer above.
+  EXPECT_EQ(m.submodels.size(), r["steps"].size());
+  EXPECT_GE(m.submodels.size(), 40u);
+  EXPECT_TRUE(r["steps_stand"].is_null());  // --no-step-analysis
+  EXPECT_TRUE(r["steps"][0]["cm_gf"].is_null());
   EXPECT_TRUE(r["single_connected"].get<bool>());
   EXPECT_NEAR(brickcheck_cm({"--json", out.string()}), r["cm_gf_final"].get<double>(), 1e-4);
+}
+
+// The table's top is built outwards from its legs, and with --min-cm 58 some of those steps fall
+// as the layers come: bricks are held back a step until what balances them is there.
+TEST(Legolize, BricksAreHeldBackUntilTheirStepStands) {
+  auto out = scratch("table58.mpd"), report = scratch("table58.json");
+  auto run =
+      run_tool("legolize", {sample("table.obj").string(), "--scale", "1", "--load-top", "300",
+                            "--min-cm", "58", "-o", out.string(), "--report", report.string()});
+  ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
+  const auto r = read_json(report);
+  EXPECT_GT(r["held_back"].get<int>(), 0);
+  EXPECT_TRUE(r["steps_stand"].get<bool>());
+  EXPECT_GT(r["min_step_cm_gf"].get<double>(), 58);
+  EXPECT_EQ(
+      run_tool("brickcheck", {"--steps", "--min-cm", "58", "--quiet", out.string()}).exit_code, 0);
+}
+
+// Steps that cannot all stand are named, with why.
+TEST(Legolize, StepsThatFallAreNamedWithWhy) {
+  auto out = scratch("mushroom-strict.ldr"), report = scratch("mushroom-strict.json");
+  auto run =
+      run_tool("legolize", {mushroom().string(), "--scale", "1", "--solid", "--no-refine",
+                            "--min-cm", "71.5", "-o", out.string(), "--report", report.string()});
+  EXPECT_EQ(run.exit_code, 1) << run.err << run.out;
+  EXPECT_NE(run.out.find("NOT every one stands"), std::string::npos) << run.out;
+  const auto r = read_json(report);
+  EXPECT_FALSE(r["steps_stand"].get<bool>());
+  int falling = 0;
+  for (const auto& step : r["steps"])
+    if (!step["stands"].get<bool>()) {
+      ++falling;
+      EXPECT_NE(step["why"].get<std::string>().find("holding"), std::string::npos) << step;
+      EXPECT_NE(run.out.find("step " + std::to_string(step["step"].get<int>()) + " falls: "),
+                std::string::npos);
+    }
+  EXPECT_GT(falling, 0);
 }
 
 }  // namespace

@@ -122,8 +122,9 @@ TEST_F(LeoCad, OpensTheHeatMap) {
 TEST_F(LeoCad, RendersTheLegolizedBunny) {
   SKIP_WITHOUT_SHARED();
   auto model = dir_ / "bunny.mpd";
-  auto run = test::run_tool("legolize", {(test::shared_dir() / "meshes" / "bunny.obj").string(),
-                                         "--height", "40", "--quiet", "-o", model.string()});
+  auto run = test::run_tool(
+      "legolize", {(test::shared_dir() / "meshes" / "bunny.obj").string(), "--height", "40",
+                   "--no-step-analysis", "--quiet", "-o", model.string()});
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   expect_renders(model, dir_ / "bunny.png", 5000);
 }

@@ -1,0 +1,324 @@
+#include "layout/build_order.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <optional>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "physics/contact_graph.h"
+#include "physics/interior_point.h"
+
+namespace lego::layout {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The model as it stands after a step: the bricks placed so far, in the assembly's order.
+Assembly partial_assembly(const Assembly& whole, const std::vector<char>& in,
+                          std::vector<int>& whole_index) {
+  Assembly partial;
+  partial.origin_ldu = whole.origin_ldu;
+  partial.ground_height = whole.ground_height;
+  whole_index.clear();
+  for (int i = 0; i < int(whole.bricks.size()); ++i)
+    if (in[size_t(i)]) {
+      whole_index.push_back(i);
+      partial.bricks.push_back(whole.bricks[size_t(i)]);
+    }
+  return partial;
+}
+
+std::string describe(const Assembly& a, int brick) {
+  if (brick == physics::kGround) return "the ground";
+  const Brick& b = a.bricks[size_t(brick)];
+  return fmt::format("{} at ({}, {}, {})", b.type ? b.type->part : std::string("?"), b.min.x,
+                     b.min.y, b.min.z);
+}
+
+}  // namespace
+
+bool BuildOrder::all_stand() const {
+  return std::all_of(steps.begin(), steps.end(),
+                     [](const BuildStep& s) { return s.analysed && s.stands; });
+}
+
+double BuildOrder::min_cm_gf() const {
+  double m = std::numeric_limits<double>::infinity();
+  for (const BuildStep& s : steps)
+    if (s.analysed)
+      m = std::min(m, s.status == physics::StabilityStatus::Solved
+                          ? s.cm_gf
+                          : -std::numeric_limits<double>::infinity());
+  return m;
+}
+
+namespace {
+
+// What the order knows between steps: who holds whom, what is placed, and where the cursor is.
+struct Planner {
+  const Assembly& a;
+  std::vector<std::vector<int>> snapped;  // per brick: the bricks it shares studs with
+  std::vector<int> layer, layers;         // per brick its bottom (plates); the distinct ones
+  std::vector<int> not_before;            // a brick held back waits for this layer
+  std::vector<int> wait_for_step;         // and for this step (above the top layer)
+  int steps = 0;                          // committed so far
+  std::vector<char> placed, reachable;    // reachable: the ground or a placed brick holds it
+  int placed_count = 0;
+  size_t cursor = 0;  // into layers
+
+  Planner(const Assembly& assembly, physics::GroundMode ground) : a(assembly) {
+    const int n = int(a.bricks.size());
+    snapped.resize(size_t(n));
+    placed.assign(size_t(n), 0);
+    reachable.assign(size_t(n), 0);
+    const auto graph = physics::ContactGraph::build(a, ground);
+    for (const physics::Contact& c : graph.contacts) {
+      if (c.upper < 0) continue;
+      if (c.lower == physics::kGround) {
+        reachable[size_t(c.upper)] = 1;
+      } else if (c.snap() || c.joint) {
+        snapped[size_t(c.lower)].push_back(c.upper);
+        snapped[size_t(c.upper)].push_back(c.lower);
+      }
+    }
+    for (int i = 0; i < n; ++i) {
+      if (a.bricks[size_t(i)].fixed) reachable[size_t(i)] = 1;
+      layer.push_back(a.bricks[size_t(i)].min.y);
+    }
+    layers = layer;
+    std::sort(layers.begin(), layers.end());
+    layers.erase(std::unique(layers.begin(), layers.end()), layers.end());
+    not_before = layer;
+    wait_for_step.assign(size_t(n), 0);
+  }
+
+  int size() const { return int(a.bricks.size()); }
+  bool done() const { return placed_count == size(); }
+
+  std::vector<int> take(int key) const {
+    std::vector<int> fresh;
+    for (int i = 0; i < size(); ++i)
+      if (!placed[size_t(i)] && reachable[size_t(i)] &&
+          std::max(layer[size_t(i)], not_before[size_t(i)]) <= key &&
+          wait_for_step[size_t(i)] <= steps + 1)
+        fresh.push_back(i);
+    return fresh;
+  }
+
+  // The next step's bricks: everything held so far up to the cursor's layer (moving the cursor
+  // up past layers with nothing to take).
+  std::vector<int> next() {
+    std::vector<int> fresh = take(layers[cursor]);
+    while (fresh.empty() && cursor + 1 < layers.size()) fresh = take(layers[++cursor]);
+    if (fresh.empty())  // above the top layer: what hangs there
+      fresh = take(std::numeric_limits<int>::max());
+    if (fresh.empty())  // what nothing placed holds: one last step, reported floating
+      for (int i = 0; i < size(); ++i)
+        if (!placed[size_t(i)]) fresh.push_back(i);
+    return fresh;
+  }
+
+  void commit(const std::vector<int>& fresh) {
+    for (int i : fresh) {
+      placed[size_t(i)] = 1;
+      for (int m : snapped[size_t(i)]) reachable[size_t(m)] = 1;
+    }
+    placed_count += int(fresh.size());
+    ++steps;
+    if (cursor + 1 < layers.size()) ++cursor;
+  }
+
+  std::optional<int> layer_above_cursor() const {
+    auto it = std::upper_bound(layers.begin(), layers.end(), layers[cursor]);
+    return it == layers.end() ? std::optional<int>() : std::optional<int>(*it);
+  }
+};
+
+// One step's analysis: the model with `fresh` added to what is placed.
+struct StepAnalysis {
+  std::vector<int> fresh, whole_index;
+  physics::StabilityResult result;
+  BuildStep step;
+};
+
+StepAnalysis analyse_step(const Planner& p, std::vector<int> fresh,
+                          const BuildOrderOptions& options) {
+  StepAnalysis out;
+  std::vector<char> in = p.placed;
+  for (int i : fresh) in[size_t(i)] = 1;
+  const Assembly partial = partial_assembly(p.a, in, out.whole_index);
+  if (!options.analyse) {
+    out.step.layer = p.layer[size_t(fresh.front())];
+    for (int i : fresh) out.step.layer = std::min(out.step.layer, p.layer[size_t(i)]);
+    out.step.new_bricks = int(fresh.size());
+    out.step.bricks = int(partial.bricks.size());
+    out.fresh = std::move(fresh);
+    return out;
+  }
+  out.result = physics::analyze_stability(partial, options.stability);
+  out.step.analysed = true;
+  const auto& r = out.result;
+  BuildStep& s = out.step;
+  s.layer = p.layer[size_t(fresh.front())];
+  for (int i : fresh) s.layer = std::min(s.layer, p.layer[size_t(i)]);
+  s.new_bricks = int(fresh.size());
+  s.bricks = int(partial.bricks.size());
+  s.status = r.status;
+  s.cm_gf = r.status == physics::StabilityStatus::Solved ? r.cm_gf() : 0;
+  s.floating = int(r.connectivity.floating.size());
+  s.stands = r.stable(options.min_cm_gf);
+  if (!s.stands) {
+    auto whole = [&](int b) { return b < 0 ? physics::kGround : out.whole_index[size_t(b)]; };
+    if (s.floating > 0)
+      s.why = fmt::format("{} bricks reach no ground", s.floating);
+    else if (r.status != physics::StabilityStatus::Solved)
+      s.why = physics::to_string(r.status);
+    else if (!r.weakest.empty())
+      s.why = fmt::format("C_M {:.3f} gf at {} holding {}", s.cm_gf,
+                          describe(p.a, whole(r.weakest.front().lower)),
+                          describe(p.a, whole(r.weakest.front().upper)));
+    else
+      s.why = fmt::format("C_M {:.3f} gf", s.cm_gf);
+  }
+  out.fresh = std::move(fresh);
+  return out;
+}
+
+// The new bricks that make a step fall: those no forces balance, else the ends of its weakest
+// contacts, else (the weakest contact is between bricks placed before) what loads it.
+std::vector<int> culprits_of(const Planner& p, const StepAnalysis& s) {
+  std::vector<char> is_fresh(static_cast<size_t>(p.size()), 0);
+  for (int i : s.fresh) is_fresh[size_t(i)] = 1;
+  const auto& r = s.result;
+  std::vector<int> out;
+  auto consider = [&](int partial_brick) {
+    if (partial_brick < 0) return;
+    const int w = s.whole_index[size_t(partial_brick)];
+    if (is_fresh[size_t(w)]) out.push_back(w);
+  };
+  for (int b : r.unbalanced) consider(b);
+  for (size_t k = 0; k < std::min<size_t>(r.weakest.size(), 3) && out.empty(); ++k) {
+    consider(r.weakest[k].upper);
+    consider(r.weakest[k].lower);
+  }
+  // The weakest contact is between bricks placed before: hold back the new bricks nearest to its
+  // upper brick through studs (what loads it most directly).
+  if (out.empty() && !r.weakest.empty() && r.weakest.front().upper >= 0) {
+    std::vector<int> distance(static_cast<size_t>(p.size()), -1);
+    std::vector<int> queue{s.whole_index[size_t(r.weakest.front().upper)]};
+    distance[size_t(queue.front())] = 0;
+    for (size_t q = 0; q < queue.size() && out.empty(); ++q) {
+      const int b = queue[q];
+      for (int m : p.snapped[size_t(b)])
+        if (distance[size_t(m)] < 0 && (p.placed[size_t(m)] || is_fresh[size_t(m)])) {
+          distance[size_t(m)] = distance[size_t(b)] + 1;
+          queue.push_back(m);
+        }
+      // Every brick at the nearest fresh distance.
+      if (q + 1 == queue.size() || distance[size_t(queue[q + 1])] > distance[size_t(b)])
+        for (int x : queue)
+          if (is_fresh[size_t(x)] && distance[size_t(x)] <= distance[size_t(b)] + 1)
+            out.push_back(x);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+}  // namespace
+
+BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  BuildOrder out;
+  out.step_of.assign(a.bricks.size(), 0);
+  if (a.bricks.empty()) return out;
+  Planner p(a, options.stability.ground);
+
+  // Each step is analysed while the next one is, planned as if the first stands (as it nearly
+  // always does): two analyses at a time, and the second thrown away when the first needs repair.
+  const physics::OneBlasThreadEach blas_threads(true);
+  std::optional<StepAnalysis> ahead;
+  int repairs = 0;
+  while (!p.done()) {
+    StepAnalysis now;
+    if (ahead) {
+      now = std::move(*ahead);
+      ahead.reset();
+    } else {
+      std::vector<int> fresh = p.next();
+      Planner after = p;
+      after.commit(fresh);
+      if (after.done() || !options.analyse) {
+        now = analyse_step(p, std::move(fresh), options);
+        ++out.analyses;
+      } else {
+        std::vector<int> fresh_after = after.next();
+        std::thread second([&] { ahead = analyse_step(after, std::move(fresh_after), options); });
+        now = analyse_step(p, std::move(fresh), options);
+        second.join();
+        out.analyses += 2;
+      }
+    }
+    if (now.step.analysed && !now.step.stands && now.step.floating == 0 &&
+        repairs < options.repairs_per_step) {
+      const std::vector<int> culprits = culprits_of(p, now);
+      fmt::print(stderr, "step {} fails: {} culprits of {} new, {} unbalanced, {} weakest\n",
+                 p.steps + 1, culprits.size(), now.fresh.size(), now.result.unbalanced.size(),
+                 now.result.weakest.size());
+      // Not every new brick: a step must place something.
+      if (!culprits.empty() && culprits.size() < now.fresh.size()) {
+        // Below the top layer a held-back brick waits for the layer above it; above it (a
+        // cantilever built outwards), for the next step, after what the others bring.
+        const auto above = p.layer_above_cursor();
+        for (int c : culprits) {
+          if (above) p.not_before[size_t(c)] = std::max(p.not_before[size_t(c)], *above);
+          p.wait_for_step[size_t(c)] = p.steps + 2;
+        }
+        out.held_back += int(culprits.size());
+        ++repairs;
+        ahead.reset();  // planned on a step that will not be
+        continue;
+      }
+    }
+    repairs = 0;
+    p.commit(now.fresh);
+    for (int i : now.fresh) out.step_of[size_t(i)] = int(out.steps.size()) + 1;
+    out.steps.push_back(now.step);
+    if (options.progress)
+      options.progress(int(out.steps.size()), p.placed_count, seconds_since(start));
+  }
+  out.seconds = seconds_since(start);
+  return out;
+}
+
+std::vector<int> apply_build_order(Assembly& assembly, const BuildOrder& order) {
+  const int n = int(assembly.bricks.size());
+  std::vector<int> perm(static_cast<size_t>(n));
+  std::iota(perm.begin(), perm.end(), 0);
+  std::stable_sort(perm.begin(), perm.end(), [&](int x, int y) {
+    return order.step_of[size_t(x)] < order.step_of[size_t(y)];
+  });
+  std::vector<int> new_index(static_cast<size_t>(n));
+  std::vector<Brick> bricks;
+  bricks.reserve(size_t(n));
+  for (int k = 0; k < n; ++k) {
+    new_index[size_t(perm[size_t(k)])] = k;
+    bricks.push_back(assembly.bricks[size_t(perm[size_t(k)])]);
+    bricks.back().source.step = order.step_of[size_t(perm[size_t(k)])];
+  }
+  assembly.bricks = std::move(bricks);
+  for (ExternalLoad& load : assembly.loads)
+    if (load.brick >= 0) load.brick = new_index[size_t(load.brick)];
+  return perm;
+}
+
+}  // namespace lego::layout

@@ -1,0 +1,61 @@
+#pragma once
+// The order in which a person builds an assembly, step by step, so that every step stands
+// (the paper's first limitation, section 8: a stable layout can fall while being built).
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/assembly.h"
+#include "physics/stability.h"
+
+namespace lego::layout {
+
+struct BuildOrderOptions {
+  physics::StabilityOptions stability;
+  double min_cm_gf = 0;  // a step stands when its C_M / g is above this
+  // Tries per step to make a failing step stand by holding its weakest new bricks back.
+  int repairs_per_step = 4;
+  // False: the order by studs alone, no step analysed (one analysis per step costs about half
+  // the final model's each; the report then says the steps were not analysed).
+  bool analyse = true;
+  std::function<void(int step, int steps_so_far, double seconds)> progress;  // may be empty
+};
+
+// The model after one step, as brickcheck --steps analyses it (no external loads: they are
+// the finished model's).
+struct BuildStep {
+  int layer = 0;       // the lowest layer (bottom, plates) of the step's new bricks
+  int new_bricks = 0;  // placed in this step
+  int bricks = 0;      // placed so far
+  physics::StabilityStatus status = physics::StabilityStatus::Empty;
+  double cm_gf = 0;  // valid when status is Solved
+  int floating = 0;  // bricks placed so far that reach no ground
+  bool analysed = false;
+  bool stands = false;  // when analysed
+  std::string why;  // when it does not stand: what holds it back
+};
+
+struct BuildOrder {
+  std::vector<int> step_of;  // per brick of the assembly, 1-based
+  std::vector<BuildStep> steps;
+  int held_back = 0;  // bricks moved to a later step than their layer's to make a step stand
+  int analyses = 0;   // stability analyses run
+  double seconds = 0;
+  bool all_stand() const;  // every step analysed and standing
+  // The smallest C_M / g of the analysed steps (-inf when one has no number, +inf when none is
+  // analysed).
+  double min_cm_gf() const;
+};
+
+// Orders the bricks layer by layer from the ground up. Step k takes every brick of layers up to
+// the k-th that a brick already placed (or the ground) holds by its studs: a brick hanging from
+// the layer above comes with the next layer, in the step after the brick that holds it. Each step
+// is analysed; when one does not stand, its new bricks that make it fall (those no forces balance,
+// else the ends of its weakest contacts) wait for the next layer, and the step is tried again.
+BuildOrder plan_build_order(const Assembly& assembly, const BuildOrderOptions& options);
+
+// The assembly's bricks with Brick::source.step from the order, sorted by step (stably); the
+// permutation (new index -> old index) lets callers move what refers to bricks by index.
+std::vector<int> apply_build_order(Assembly& assembly, const BuildOrder& order);
+
+}  // namespace lego::layout
