@@ -6,10 +6,13 @@
 #include <filesystem>
 #include <iostream>
 
+#include "core/brick_catalog.h"
 #include "core/error.h"
+#include "ldraw/reader.h"
 #include "ldraw/writer.h"
 #include "parts/part_library.h"
 #include "report/audit.h"
+#include "report/instructions.h"
 #include "report/render.h"
 
 namespace fs = std::filesystem;
@@ -47,13 +50,47 @@ fs::path heatmap_path(const fs::path& out, const fs::path& input, bool several) 
          (out.stem().string() + "-" + input.stem().string() + out.extension().string());
 }
 
+// The booklet of one audited model: its parts step by step, with each step's analysis.
+void write_instructions(const report::Audit& audit, const fs::path& dir,
+                        const std::string& ldraw_dir, const std::string& main_model, bool quiet) {
+  report::Booklet booklet = report::booklet_of(audit.model);
+  for (report::BookletStep& bs : booklet.steps)
+    for (const report::StepAudit& s : audit.steps)
+      if (s.step == bs.number) {
+        if (s.status == physics::StabilityStatus::Solved) bs.cm_gf = s.cm_gf;
+        bs.stands = s.stable;
+        if (s.stable) break;
+        if (s.floating > 0)
+          bs.why = fmt::format("{} part{} reach no ground", s.floating, s.floating == 1 ? "" : "s");
+        else if (s.status != physics::StabilityStatus::Solved)
+          bs.why = physics::to_string(s.status);
+        else
+          bs.why = fmt::format("C_M {:.3f} gf", s.cm_gf);
+      }
+  if (audit.stability.status == physics::StabilityStatus::Solved)
+    booklet.cm_gf = audit.stability.cm_gf();
+  booklet.verdict = "The finished model: " + report::render_text(audit, true);
+  while (!booklet.verdict.empty() && booklet.verdict.back() == '\n') booklet.verdict.pop_back();
+  fs::path library = ldraw_dir;
+  if (library.empty()) {
+    const auto from_env = ldraw::library_dirs_from_env();
+    library = from_env.empty() ? default_parts_dir() : from_env.front();
+  }
+  auto progress = [&](const std::string& words) {
+    if (!quiet) std::cerr << "brickcheck: " << words << "\n";
+  };
+  const std::string note =
+      report::write_booklet(dir, booklet, audit.file, library, progress, main_model);
+  if (!note.empty()) std::cerr << "brickcheck: " << note << "\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"brickcheck: check LDraw models (.ldr, .mpd) for connectivity and stability"};
   app.footer(kExitCodes);
   std::vector<std::string> files;
-  std::string ldraw_dir, ground = "baseplate", heatmap, main_model;
+  std::string ldraw_dir, ground = "baseplate", heatmap, main_model, instructions;
   std::vector<std::string> load_texts, ground_part_texts;
   double min_cm = 0, max_seconds = 60;
   bool json = false, steps = false, quiet = false, strict = false;
@@ -82,6 +119,9 @@ int main(int argc, char** argv) {
   app.add_option("--heatmap", heatmap,
                  "write the model coloured by per-brick capacity to this .ldr");
   app.add_flag("--steps", steps, "check the model after every build step");
+  app.add_option("--instructions", instructions,
+                 "write an HTML booklet into this folder (one FILE): a page per build step with a "
+                 "picture (LeoCAD), its parts and its C_M; implies --steps");
   app.add_flag("--quiet", quiet, "print only the verdict line of each file");
   app.add_flag("--strict", strict,
                "exit 3 when the verdict assumes something: carried parts, parts left out");
@@ -108,7 +148,19 @@ int main(int argc, char** argv) {
       ground == "table" ? physics::GroundMode::Table : physics::GroundMode::Baseplate;
   options.min_cm_gf = min_cm;
   options.stability.max_seconds = max_seconds;
-  options.steps = steps;
+  options.steps = steps || !instructions.empty();
+  if (!instructions.empty()) {
+    if (files.size() != 1) {
+      std::cerr << "brickcheck: --instructions takes one FILE\n";
+      return kBadInput;
+    }
+    try {
+      report::check_booklet_folder(instructions);
+    } catch (const InputError& e) {
+      std::cerr << "brickcheck: " << e.what() << "\n";
+      return kBadInput;
+    }
+  }
   options.brick_capacity = !heatmap.empty();
   try {
     for (const auto& t : load_texts) options.loads.push_back(report::parse_load_spec(t));
@@ -175,6 +227,14 @@ int main(int argc, char** argv) {
       std::cout << report::render_text(audit, quiet);
     if (audit.verdict == report::Verdict::Unreadable && json) std::cerr << audit.fatal << "\n";
 
+    if (!instructions.empty() && audit.verdict != report::Verdict::Unreadable) {
+      try {
+        write_instructions(audit, instructions, ldraw_dir, main_model, quiet || json);
+      } catch (const InputError& e) {
+        std::cerr << "brickcheck: " << e.what() << "\n";
+        if (rank(kBadInput) > rank(worst)) worst = kBadInput;
+      }
+    }
     if (!heatmap.empty() && audit.verdict != report::Verdict::Unreadable &&
         audit.verdict != report::Verdict::NothingToAnalyse) {
       fs::path out = heatmap_path(heatmap, file, files.size() > 1);

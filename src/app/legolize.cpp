@@ -17,9 +17,11 @@
 #include "layout/reconfigure.h"
 #include "layout/refine.h"
 #include "layout/to_assembly.h"
+#include "ldraw/reader.h"
 #include "ldraw/writer.h"
 #include "mesh/mesh.h"
 #include "report/conversion_report.h"
+#include "report/instructions.h"
 #include "report/parts_list.h"
 #include "report/render.h"
 #include "voxel/palette.h"
@@ -99,7 +101,7 @@ int main(int argc, char** argv) {
   CLI::App app{"legolize: turn a colored 3D mesh into a LEGO model that stands"};
   std::string input, output, up = "y", palette_spec = "paper", size, colors = "hard",
                              ground = "baseplate", inventory, parts_list, bricklink, report_path,
-                             heatmap;
+                             heatmap, instructions;
   int height = 20, shell = 3, fail_max = 100, default_color = -1;
   size_t max_voxels = 8'000'000;
   double scale = 0, w_c = 1, min_cm = 0, load_top = 0;
@@ -197,10 +199,15 @@ int main(int argc, char** argv) {
   app.add_option("--report", report_path, "JSON report (docs/legolize-report.md)")->group(g_out);
   app.add_option("--heatmap", heatmap, "LDraw model colored by stability (as brickcheck's)")
       ->group(g_out);
+  app.add_option("--instructions", instructions,
+                 "write an HTML booklet into this folder: a page per build step with a picture "
+                 "(LeoCAD), its parts and its C_M")
+      ->group(g_out);
   app.add_flag("--quiet", quiet, "no progress on stderr")->group(g_out);
   app.footer(
-      "Exit codes: 0 written and stable; 1 written, but unstable or not one connected piece (the "
-      "report and summary say where); 2 usage error or bad input (nothing is written).");
+      "Exit codes: 0 written, stable, and every build step stands; 1 written, but unstable, not "
+      "one connected piece, or a build step falls (the report and summary say where); 2 usage "
+      "error or bad input (nothing is written).");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -228,6 +235,7 @@ int main(int argc, char** argv) {
     check_output("--bricklink", bricklink, input);
     check_output("--report", report_path, input);
     check_output("--heatmap", heatmap, input);
+    if (!instructions.empty()) report::check_booklet_folder(instructions);
     if (voxels_only && !heatmap.empty())
       throw InputError("", 0, "--heatmap needs the brick layout; --voxels-only stops before it");
     const voxel::Palette palette = parse_palette(palette_spec);
@@ -444,6 +452,24 @@ int main(int argc, char** argv) {
     rep.seconds.emplace_back("total", since(start));
     if (!report_path.empty()) files.emplace_back(report_path, to_json(rep).dump(2) + "\n");
     ldraw::write_files_atomically(files);
+    if (!instructions.empty()) {
+      // The booklet shows the file as written, read back as any LDraw tool would.
+      report::Booklet booklet = report::booklet_of(ldraw::read_file(output));
+      for (report::BookletStep& bs : booklet.steps)
+        if (bs.number >= 1 && bs.number <= int(rep.steps.size())) {
+          const auto& st = rep.steps[size_t(bs.number - 1)];
+          if (!st.analysed) continue;
+          if (std::isfinite(st.cm_gf)) bs.cm_gf = st.cm_gf;
+          bs.stands = st.stands;
+          bs.why = st.why;
+        }
+      if (std::isfinite(rep.cm_gf_final)) booklet.cm_gf = rep.cm_gf_final;
+      booklet.verdict = fmt::format("The finished model: C_M = {} ({}).", cm_words(rep.cm_gf_final),
+                                    stable ? "it stands" : "it does not stand");
+      const std::string note =
+          report::write_booklet(instructions, booklet, output, default_parts_dir(), stage);
+      if (!note.empty()) std::cerr << "legolize: " << note << "\n";
+    }
 
     std::string by_part;
     for (const auto& [part, n] : rep.bricks_by_part)

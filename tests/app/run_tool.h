@@ -26,10 +26,12 @@ inline std::string quote(const std::string& s) {
   return q + "'";
 }
 
-inline ToolRun run_tool(const std::string& name, const std::vector<std::string>& args) {
+// `env`: VAR=VALUE settings for the tool's environment ("PATH=/nowhere"), or empty.
+inline ToolRun run_tool(const std::string& name, const std::vector<std::string>& args,
+                        const std::string& env = {}) {
   auto err_file = std::filesystem::temp_directory_path() / "lego_tool_err";
   err_file += std::to_string(::getpid());
-  std::string cmd = quote(tool(name).string());
+  std::string cmd = (env.empty() ? std::string() : "env " + env + " ") + quote(tool(name).string());
   for (const auto& a : args) {
     cmd += ' ';
     cmd += quote(a);

@@ -1,0 +1,315 @@
+#include "report/instructions.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+
+#include "core/brick_catalog.h"
+#include "core/error.h"
+#include "ldraw/color_table.h"
+#include "ldraw/writer.h"
+
+namespace lego::report {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Marks a folder as ours: a booklet written before may be replaced, nothing else.
+constexpr const char* kGenerator = R"(<meta name="generator" content="legolization booklet">)";
+constexpr int kWidth = 640, kHeight = 480;
+
+std::string html_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  return out;
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+bool have(const char* program) {
+  return std::system(fmt::format("command -v {} >/dev/null 2>&1", program).c_str()) == 0;
+}
+
+// A part's name: the catalog's, else the first line of its own file.
+std::string part_name(const ldraw::PlacedPart& p) {
+  if (const BrickType* t = BrickCatalog::standard().find(p.part)) return t->name;
+  if (!p.definition.empty()) {
+    std::ifstream in(p.definition);
+    std::string line;
+    if (std::getline(in, line)) {
+      while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+      if (line.starts_with("0 ")) return line.substr(2);
+    }
+  }
+  return p.part;
+}
+
+std::vector<PartCount> sorted(std::map<std::pair<std::string, int>, PartCount> counts) {
+  std::vector<PartCount> out;
+  for (auto& [key, c] : counts) out.push_back(c);
+  return out;
+}
+
+bool is_booklet(const fs::path& dir) {
+  std::ifstream index(dir / "index.html");
+  const std::string text((std::istreambuf_iterator<char>(index)), {});
+  return text.find(kGenerator) != std::string::npos;
+}
+
+// Creates the folder, or clears the pictures of a booklet written before in it (a longer one
+// would leave steps behind).
+void prepare_folder(const fs::path& dir) {
+  check_booklet_folder(dir);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec)
+    throw InputError(dir.string(), 0, "--instructions: cannot create the folder: " + ec.message());
+  static const std::regex ours(R"(step-\d+\.png|cover\.png|index\.html)");
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.is_regular_file() && std::regex_match(e.path().filename().string(), ours))
+      fs::remove(e.path(), ec);
+}
+
+// LeoCAD renders the steps (new parts highlighted, earlier ones faded) and the finished model;
+// returns which pictures exist, and a note when some do not.
+struct Pictures {
+  std::map<int, std::string> step;  // step -> file name in the folder
+  std::string cover;
+  std::string note;
+};
+
+Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& model,
+                const fs::path& library, const BookletProgress& progress,
+                const std::string& submodel) {
+  Pictures out;
+  if (!have("leocad")) {
+    out.note = "LeoCAD is not installed (Debian package leocad): the booklet has no pictures.";
+    return out;
+  }
+  const bool display = std::getenv("DISPLAY") && *std::getenv("DISPLAY");
+  if (!display && !have("xvfb-run")) {
+    out.note =
+        "LeoCAD needs a display and xvfb-run is not installed (Debian package xvfb): the "
+        "booklet has no pictures.";
+    return out;
+  }
+  const int last = booklet.steps.empty() ? 1 : booklet.steps.back().number;
+  const fs::path scratch = dir / ".render";
+  std::error_code ec;
+  fs::remove_all(scratch, ec);
+  fs::create_directories(scratch);
+  auto leocad = [&](const std::string& image, int from, int to, bool highlight) {
+    const std::string command = fmt::format(
+        "{}leocad -l {} {}-i {} -w {} -h {} -f {} -t {} --camera-angles 30 45 {} {} >{} 2>&1",
+        display ? "" : "xvfb-run -a ", shell_quote(library.string()),
+        submodel.empty() ? std::string() : "-s " + shell_quote(submodel) + " ",
+        shell_quote((scratch / image).string()), kWidth, kHeight, from, to,
+        highlight ? "--highlight --fade-steps" : "--no-highlight --no-fade-steps",
+        shell_quote(fs::absolute(model).string()), shell_quote((scratch / "leocad.log").string()));
+    return std::system(command.c_str()) == 0;
+  };
+  if (progress) progress(fmt::format("rendering {} steps with LeoCAD", booklet.steps.size()));
+  const bool steps_ok = leocad("step.png", 1, last, true);
+  if (progress) progress("rendering the cover");
+  const bool cover_ok = leocad("cover.png", last, last, false);
+  // One step renders to the name given, several to the name with the step's number.
+  static const std::regex numbered(R"(step(\d+)\.png)");
+  for (const auto& e : fs::directory_iterator(scratch)) {
+    const std::string name = e.path().filename().string();
+    std::smatch m;
+    int step = 0;
+    if (std::regex_match(name, m, numbered))
+      step = std::stoi(m[1]);
+    else if (name == "step.png")
+      step = last;
+    else
+      continue;
+    const std::string target = fmt::format("step-{:03}.png", step);
+    fs::rename(e.path(), dir / target, ec);
+    if (!ec) out.step[step] = target;
+  }
+  if (cover_ok && fs::exists(scratch / "cover.png")) {
+    fs::rename(scratch / "cover.png", dir / "cover.png", ec);
+    if (!ec) out.cover = "cover.png";
+  }
+  int missing = 0;
+  for (const BookletStep& s : booklet.steps) missing += !out.step.count(s.number);
+  if (missing > 0 || out.cover.empty())
+    out.note = fmt::format("LeoCAD did not render {} of {} pictures{}.",
+                           missing + (out.cover.empty() ? 1 : 0), booklet.steps.size() + 1,
+                           steps_ok ? "" : " (it failed)");
+  fs::remove_all(scratch, ec);
+  return out;
+}
+
+// LDraw names colours with underscores ("Dark_Bluish_Grey"); a person reads spaces.
+std::string colour_name(int color) {
+  std::string name = ldraw::ColorTable::standard().name(color);
+  std::replace(name.begin(), name.end(), '_', ' ');
+  return name;
+}
+
+std::string swatch(int color) {
+  const auto rgb = ldraw::ColorTable::standard().rgb(color);
+  return fmt::format(R"(<span class="swatch" style="background:#{:06x}"></span>)",
+                     rgb ? *rgb : 0xA0A5A9u);
+}
+
+std::string parts_table(const std::vector<PartCount>& parts) {
+  std::string out =
+      "<table class=\"parts\"><tr><th>count</th><th>colour</th><th>part</th><th>name</th></tr>\n";
+  for (const PartCount& p : parts)
+    out += fmt::format(
+        "<tr><td class=\"count\">{}&times;</td><td>{} {}</td><td>{}</td><td>{}</td></tr>\n",
+        p.quantity, swatch(p.color), html_escape(colour_name(p.color)), html_escape(p.part),
+        html_escape(p.name));
+  return out + "</table>\n";
+}
+
+std::string cm_text(const std::optional<double>& cm) {
+  return cm ? fmt::format("{:.3f} gf", *cm) : std::string("no equilibrium");
+}
+
+std::string html(const Booklet& b, const Pictures& pictures) {
+  int total = 0;
+  for (const PartCount& p : b.parts) total += p.quantity;
+  std::string out = fmt::format(R"(<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+{}
+<title>{} — building instructions</title>
+<style>
+body {{ font-family: sans-serif; margin: 0; background: #eee; color: #222; }}
+section {{ background: #fff; margin: 1em auto; padding: 1em 2em; max-width: 900px;
+  page-break-after: always; break-after: page; }}
+h1, h2 {{ margin: 0.2em 0; }}
+img {{ display: block; max-width: 100%; margin: 0.5em auto; }}
+.note {{ background: #fff3c4; padding: 0.5em 1em; }}
+.swatch {{ display: inline-block; width: 1em; height: 1em; border: 1px solid #666;
+  vertical-align: middle; }}
+table.parts {{ border-collapse: collapse; }}
+table.parts td, table.parts th {{ padding: 0.15em 0.6em; text-align: left; }}
+td.count {{ font-weight: bold; text-align: right; }}
+.cm {{ color: #555; }} .falls {{ color: #b00; font-weight: bold; }}
+</style></head>
+<body>
+<section class="cover" id="cover">
+<h1>{}</h1>
+<p>Building instructions for {}: {} steps, {} parts.</p>
+)",
+                                kGenerator, html_escape(b.title), html_escape(b.title),
+                                html_escape(b.source), b.steps.size(), total);
+  if (!pictures.note.empty())
+    out += fmt::format("<p class=\"note\">{}</p>\n", html_escape(pictures.note));
+  if (!pictures.cover.empty())
+    out += fmt::format(
+        "<img class=\"picture\" src=\"{}\" alt=\"the finished model\" width=\"{}\" "
+        "height=\"{}\">\n",
+        pictures.cover, kWidth, kHeight);
+  if (!b.verdict.empty()) out += fmt::format("<p>{}</p>\n", html_escape(b.verdict));
+  out += "<h2>Parts</h2>\n" + parts_table(b.parts) + "</section>\n";
+  for (const BookletStep& s : b.steps) {
+    out += fmt::format(
+        "<section class=\"step\" id=\"step-{0}\" data-step=\"{0}\">\n<h2>Step {0} "
+        "<small>of {1}</small></h2>\n",
+        s.number, b.steps.size());
+    if (auto it = pictures.step.find(s.number); it != pictures.step.end())
+      out += fmt::format(
+          "<img class=\"picture\" src=\"{}\" alt=\"the model after step {}, new "
+          "parts highlighted\" width=\"{}\" height=\"{}\">\n",
+          it->second, s.number, kWidth, kHeight);
+    out += parts_table(s.parts);
+    if (s.stands) {
+      out += fmt::format("<p class=\"cm\">The model so far: C_M = {} ({}).</p>\n", cm_text(s.cm_gf),
+                         *s.stands ? "it stands" : "it does not stand");
+      if (!*s.stands && !s.why.empty())
+        out += fmt::format("<p class=\"falls\">Hold it: {}</p>\n", html_escape(s.why));
+    }
+    out += "</section>\n";
+  }
+  // Once the page has loaded, it says how many pictures showed (for a reader's tools and tests:
+  // a headless browser's DOM then tells).
+  out += R"(<script>
+window.addEventListener("load", () => {
+  const shown = [...document.images].filter((i) => i.complete && i.naturalWidth > 0);
+  document.body.dataset.pictures = document.images.length;
+  document.body.dataset.picturesShown = shown.length;
+});
+</script>
+)";
+  return out + "</body></html>\n";
+}
+
+}  // namespace
+
+void check_booklet_folder(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return;
+  if (!fs::is_directory(dir, ec)) throw InputError(dir.string(), 0, "--instructions: not a folder");
+  if (fs::is_empty(dir, ec) || is_booklet(dir)) return;
+  throw InputError(dir.string(), 0,
+                   "--instructions: the folder holds other files; give an empty or new folder "
+                   "(a booklet written there before is replaced)");
+}
+
+Booklet booklet_of(const ldraw::Model& model) {
+  Booklet b;
+  b.title = model.title.empty() ? model.source : model.title;
+  b.source = fs::path(model.source).filename().string();
+  std::map<std::string, std::string> names;
+  std::map<int, std::map<std::pair<std::string, int>, PartCount>> by_step;
+  std::map<std::pair<std::string, int>, PartCount> all;
+  for (const ldraw::PlacedPart& p : model.parts) {
+    auto [name, fresh] = names.try_emplace(p.part);
+    if (fresh) name->second = part_name(p);
+    for (auto* counts : {&by_step[p.step], &all}) {
+      PartCount& c = (*counts)[{p.part, p.color}];
+      c.part = p.part;
+      c.color = p.color;
+      c.name = name->second;
+      ++c.quantity;
+    }
+  }
+  for (auto& [step, counts] : by_step) {
+    BookletStep s;
+    s.number = step;
+    s.parts = sorted(std::move(counts));
+    b.steps.push_back(std::move(s));
+  }
+  b.parts = sorted(std::move(all));
+  return b;
+}
+
+std::string write_booklet(const fs::path& dir, const Booklet& booklet, const fs::path& model,
+                          const fs::path& library, const BookletProgress& progress,
+                          const std::string& submodel) {
+  prepare_folder(dir);
+  const Pictures pictures = render(dir, booklet, model, library, progress, submodel);
+  ldraw::write_file_atomically(dir / "index.html", html(booklet, pictures));
+  if (progress) progress(fmt::format("wrote {}", (dir / "index.html").string()));
+  return pictures.note;
+}
+
+}  // namespace lego::report

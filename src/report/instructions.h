@@ -1,0 +1,55 @@
+#pragma once
+// Building instructions a person can follow: an HTML booklet with a cover (the finished model and
+// every part) and a page per build step (the model so far with the new parts highlighted, the
+// parts the step needs, and the step's C_M). Pictures come from LeoCAD (DESIGN.md, "Real
+// clients"); without it the booklet is written without them and says so.
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ldraw/reader.h"
+#include "report/parts_list.h"
+
+namespace lego::report {
+
+struct BookletStep {
+  int number = 0;                // LDraw step of the main model, from 1
+  std::vector<PartCount> parts;  // placed in this step
+  // The model after this step, as brickcheck --steps analyses it; empty when not analysed.
+  std::optional<double> cm_gf;  // no value also when the step has no number (no equilibrium)
+  std::optional<bool> stands;
+  std::string why;  // when it does not stand
+};
+
+struct Booklet {
+  std::string title;
+  std::string source;  // the model file, as shown
+  std::vector<BookletStep> steps;
+  std::vector<PartCount> parts;  // every part of the model
+  std::optional<double> cm_gf;   // of the finished model
+  std::string verdict;           // one line on the finished model
+};
+
+// The parts of a model read from LDraw, step by step (submodels flattened, a submodel's parts in
+// the step where it is first placed). Names come from the catalog or the part's own file.
+Booklet booklet_of(const ldraw::Model& model);
+
+// Progress on the way (stderr lines for a person watching).
+using BookletProgress = std::function<void(const std::string&)>;
+
+// Throws InputError unless a booklet may be written into DIR (see write_booklet); creates nothing.
+void check_booklet_folder(const std::filesystem::path& dir);
+
+// Writes DIR/index.html and its pictures (DIR/step-NNN.png, DIR/cover.png), rendering `model`
+// with LeoCAD and the parts library `library` (its FILE `submodel` of an MPD when given). DIR may
+// not exist, be empty, or hold a booklet written before (which is replaced); anything else is
+// refused with InputError, so nothing a user keeps there is overwritten. Returns a note on the
+// pictures (empty when all were rendered).
+std::string write_booklet(const std::filesystem::path& dir, const Booklet& booklet,
+                          const std::filesystem::path& model, const std::filesystem::path& library,
+                          const BookletProgress& progress = {}, const std::string& submodel = {});
+
+}  // namespace lego::report

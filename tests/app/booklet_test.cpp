@@ -1,0 +1,164 @@
+// Real clients: the instructions booklet (--instructions) rendered by LeoCAD and opened in
+// headless Chromium. Tests that need them skip when leocad, xvfb-run or chromium is missing.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include <nlohmann/json.hpp>
+
+#include "app/run_tool.h"
+#include "test_paths.h"
+
+namespace lego {
+namespace {
+
+namespace fs = std::filesystem;
+using test::run_tool;
+
+bool have(const char* program) {
+  return std::system((std::string("command -v ") + program + " >/dev/null 2>&1").c_str()) == 0;
+}
+
+std::string text_of(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+size_t count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// The page as headless Chromium has it once loaded (its DOM, scripts run), and a screenshot of
+// it beside the booklet for a person to look at.
+std::string chromium_dom(const fs::path& page) {
+  const fs::path profile = page.parent_path() / ".chromium";
+  const std::string flags =
+      "--headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+      "--disable-background-networking --disable-component-update --disable-sync "
+      "--virtual-time-budget=10000 --user-data-dir=" +
+      test::quote(profile.string());
+  const std::string url = test::quote("file://" + fs::absolute(page).string());
+  const fs::path dom = page.parent_path() / ".dom.html";
+  std::system(("chromium " + flags + " --dump-dom " + url + " >" + test::quote(dom.string()) +
+               " 2>/dev/null")
+                  .c_str());
+  std::system(("chromium " + flags + " --window-size=1000,1400 --screenshot=" +
+               test::quote((page.parent_path() / ".screenshot.png").string()) + " " + url +
+               " >/dev/null 2>&1")
+                  .c_str());
+  const std::string out = text_of(dom);
+  fs::remove_all(profile);
+  fs::remove(dom);
+  return out;
+}
+
+class Booklet : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = test::scratch("lego_booklet_", "");
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  fs::path dir_;
+};
+
+// legolize's booklet: a page per step with its picture (every one shown in a real browser), its
+// parts and its C_M, and a cover with the finished model and every part.
+TEST_F(Booklet, LegolizeWritesAPagePerStepThatABrowserShows) {
+  if (!have("leocad") || !have("xvfb-run") || !have("chromium"))
+    GTEST_SKIP() << "leocad, xvfb-run or chromium is not installed";
+  const fs::path book = dir_ / "crate-book", model = dir_ / "crate.mpd", report = dir_ / "r.json";
+  auto run =
+      run_tool("legolize", {(test::data_dir() / ".." / ".." / "samples" / "crate.obj").string(),
+                            "--height", "6", "-o", model.string(), "--report", report.string(),
+                            "--instructions", book.string()});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.err.find("rendering"), std::string::npos) << run.err;  // progress
+  const auto r = nlohmann::json::parse(text_of(report));
+  const size_t steps = r["steps"].size();
+  ASSERT_GE(steps, 6u);
+  for (size_t k = 1; k <= steps; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "step-%03zu.png", k);
+    EXPECT_TRUE(fs::exists(book / name)) << name;
+  }
+  EXPECT_TRUE(fs::exists(book / "cover.png"));
+
+  const std::string dom = chromium_dom(book / "index.html");
+  ASSERT_FALSE(dom.empty()) << "chromium printed no DOM";
+  EXPECT_NE(dom.find("data-pictures=\"" + std::to_string(steps + 1) + "\""), std::string::npos);
+  EXPECT_NE(dom.find("data-pictures-shown=\"" + std::to_string(steps + 1) + "\""),
+            std::string::npos)
+      << "a picture did not show";
+  for (size_t k = 1; k <= steps; ++k) {
+    const std::string id = "id=\"step-" + std::to_string(k) + "\"";
+    const size_t at = dom.find(id);
+    ASSERT_NE(at, std::string::npos) << id;
+    const size_t end = dom.find("</section>", at);
+    const std::string page = dom.substr(at, end - at);
+    EXPECT_NE(page.find("<img"), std::string::npos) << "step " << k;
+    EXPECT_NE(page.find("class=\"parts\""), std::string::npos) << "step " << k;
+    EXPECT_NE(page.find("C_M = "), std::string::npos) << "step " << k;
+    // Its parts add up to the bricks the step places.
+    std::regex counts(R"(<td class="count">(\d+)×</td>)");
+    int placed = 0;
+    for (std::sregex_iterator m(page.begin(), page.end(), counts), e; m != e; ++m)
+      placed += std::stoi((*m)[1]);
+    EXPECT_EQ(placed, r["steps"][k - 1]["new_bricks"].get<int>()) << "step " << k;
+  }
+  EXPECT_EQ(count(dom, "class=\"step\""), steps);
+  EXPECT_NE(dom.find("id=\"cover\""), std::string::npos);
+}
+
+// Without LeoCAD the booklet still comes out, without pictures, and says so.
+TEST_F(Booklet, WithoutLeoCadItHasNoPicturesAndSaysSo) {
+  const fs::path book = dir_ / "tower-book";
+  const fs::path tower = test::data_dir() / ".." / ".." / "samples" / "tower.ldr";
+  auto run = run_tool("brickcheck", {"--instructions", book.string(), tower.string()},
+                      "PATH=/nonexistent");
+  EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.err.find("LeoCAD is not installed"), std::string::npos) << run.err;
+  const std::string html = text_of(book / "index.html");
+  EXPECT_NE(html.find("LeoCAD is not installed"), std::string::npos);
+  EXPECT_EQ(html.find("<img"), std::string::npos);
+  // A page per step brickcheck --steps analyses.
+  const auto steps =
+      nlohmann::json::parse(run_tool("brickcheck", {"--json", "--steps", tower.string()}).out);
+  EXPECT_EQ(count(html, "class=\"step\""), steps["steps"].size());
+  EXPECT_GT(steps["steps"].size(), 1u);
+  EXPECT_NE(html.find("it stands"), std::string::npos);
+}
+
+// A folder with the user's own files is refused and left as it was; a booklet written before is
+// replaced.
+TEST_F(Booklet, NeverWritesOverAFolderOfOtherFiles) {
+  const fs::path tower = test::data_dir() / ".." / ".." / "samples" / "tower.ldr";
+  const fs::path mine = dir_ / "mine";
+  fs::create_directories(mine);
+  std::ofstream(mine / "notes.txt") << "my notes\n";
+  auto refused = run_tool("brickcheck", {"--instructions", mine.string(), tower.string()},
+                          "PATH=/nonexistent");
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("holds other files"), std::string::npos) << refused.err;
+  EXPECT_EQ(text_of(mine / "notes.txt"), "my notes\n");
+  EXPECT_FALSE(fs::exists(mine / "index.html"));
+
+  const fs::path book = dir_ / "again";
+  for (int k = 0; k < 2; ++k)
+    EXPECT_EQ(run_tool("brickcheck", {"--instructions", book.string(), tower.string()},
+                       "PATH=/nonexistent")
+                  .exit_code,
+              0);
+  auto two =
+      run_tool("brickcheck", {"--instructions", book.string(), tower.string(), tower.string()});
+  EXPECT_EQ(two.exit_code, 2);
+  EXPECT_NE(two.err.find("one FILE"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace lego
