@@ -17,6 +17,10 @@ namespace lego::layout {
 
 namespace {
 
+// Steps that fall one after another are beyond holding bricks back (a spider's legs leaning out
+// until the body ties them): past this many, the rest are analysed but not repaired.
+constexpr int kStopRepairingAfter = 3;
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -247,7 +251,12 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
   // always does): two analyses at a time, and the second thrown away when the first needs repair.
   const physics::OneBlasThreadEach blas_threads(true);
   std::optional<StepAnalysis> ahead;
-  int repairs = 0;
+  struct Attempt {
+    StepAnalysis analysis;
+    std::vector<int> not_before, wait_for_step;
+  };
+  std::optional<Attempt> best;
+  int repairs = 0, falling_in_a_row = 0;
   while (!p.done()) {
     StepAnalysis now;
     if (ahead) {
@@ -268,12 +277,18 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
         out.analyses += 2;
       }
     }
-    if (now.step.analysed && !now.step.stands && now.step.floating == 0 &&
-        repairs < options.repairs_per_step) {
-      const std::vector<int> culprits = culprits_of(p, now);
-      fmt::print(stderr, "step {} fails: {} culprits of {} new, {} unbalanced, {} weakest\n",
-                 p.steps + 1, culprits.size(), now.fresh.size(), now.result.unbalanced.size(),
-                 now.result.weakest.size());
+    if (now.step.analysed && !now.step.stands && now.step.floating == 0) {
+      // The attempt with the largest C_M is kept, with the holding back that led to it.
+      auto score = [](const StepAnalysis& x) {
+        return x.step.status == physics::StabilityStatus::Solved
+                   ? x.step.cm_gf
+                   : -std::numeric_limits<double>::infinity();
+      };
+      if (!best || score(now) > score(best->analysis))
+        best = Attempt{now, p.not_before, p.wait_for_step};
+      std::vector<int> culprits;
+      if (repairs < options.repairs_per_step && falling_in_a_row < kStopRepairingAfter)
+        culprits = culprits_of(p, now);
       // Not every new brick: a step must place something.
       if (!culprits.empty() && culprits.size() < now.fresh.size()) {
         // Below the top layer a held-back brick waits for the layer above it; above it (a
@@ -283,12 +298,22 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
           if (above) p.not_before[size_t(c)] = std::max(p.not_before[size_t(c)], *above);
           p.wait_for_step[size_t(c)] = p.steps + 2;
         }
-        out.held_back += int(culprits.size());
         ++repairs;
         ahead.reset();  // planned on a step that will not be
         continue;
       }
+      if (score(best->analysis) > score(now)) {
+        now = std::move(best->analysis);
+        p.not_before = std::move(best->not_before);
+        p.wait_for_step = std::move(best->wait_for_step);
+        ahead.reset();
+      }
     }
+    for (int i = 0; i < p.size(); ++i)
+      out.held_back += p.wait_for_step[size_t(i)] == p.steps + 2 &&
+                       std::find(now.fresh.begin(), now.fresh.end(), i) == now.fresh.end();
+    falling_in_a_row = now.step.stands ? 0 : falling_in_a_row + 1;
+    best.reset();
     repairs = 0;
     p.commit(now.fresh);
     for (int i : now.fresh) out.step_of[size_t(i)] = int(out.steps.size()) + 1;
