@@ -72,6 +72,10 @@ bool ColorTable::add_definition(std::string_view meta_line) {
   return true;
 }
 
+void ColorTable::add_missing(const ColorTable& other) {
+  for (const auto& [code, color] : other.colors_) colors_.try_emplace(code, color);
+}
+
 ColorTable ColorTable::load(const std::filesystem::path& ldconfig) {
   std::ifstream in(ldconfig);
   if (!in) throw InputError(ldconfig.string(), 0, "cannot open the colour table");

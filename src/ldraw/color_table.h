@@ -28,6 +28,8 @@ class ColorTable {
 
   // Parses one `0 !COLOUR ...` line (the text after "0 "); false if it is not a valid one.
   bool add_definition(std::string_view meta_line);
+  // Adds `other`'s colours whose codes this table lacks.
+  void add_missing(const ColorTable& other);
   const Color* find(int code) const;
   std::string name(int code) const;  // "Red", "#1A2B3C" for direct colours, "colour 999" if unknown
   std::optional<unsigned> rgb(int code) const;

@@ -1,6 +1,7 @@
 #include "ldraw/reader.h"
 
 #include "core/brick_catalog.h"
+#include "core/error.h"
 
 #include <fmt/format.h>
 #include <algorithm>
@@ -357,6 +358,15 @@ class Flattener {
  public:
   Flattener(const ReadOptions& options, Model& model) : options_(options), model_(model) {
     colors_ = ColorTable::standard();
+    // The library's colour table names what ours does not (the transparent and speckled ones).
+    for (const auto& dir : options_.library_dirs) {
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(dir / "LDConfig.ldr", ec)) continue;
+      try {
+        colors_.add_missing(ColorTable::load(dir / "LDConfig.ldr"));
+      } catch (const lego::InputError&) {
+      }
+    }
   }
 
   void run(std::unique_ptr<Document> root) {
@@ -364,6 +374,7 @@ class Flattener {
       colors_.add_definition(fmt::format("!COLOUR {} CODE {} VALUE #{:06X} EDGE #{:06X}", c.name,
                                          c.code, c.rgb, c.edge_rgb));
     }
+    model_.color_table = colors_;
     const Document& doc = *root;
     documents_.push_back(std::move(root));
     if (doc.blocks.empty()) return;

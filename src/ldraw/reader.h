@@ -50,6 +50,9 @@ struct Model {
   std::vector<PlacedPart> parts;
   std::vector<Step> steps;
   std::vector<Color> colors;  // `0 !COLOUR` definitions found in the file
+  // What the colours are called and look like: ours (ldraw_parts/LDConfig.ldr), then the
+  // libraries' LDConfig.ldr for codes we lack, then the file's own definitions.
+  ColorTable color_table;
   std::vector<Diagnostic> diagnostics;
 
   bool has_errors() const;

@@ -333,8 +333,7 @@ std::string describe_brick(const Audit& audit, int brick) {
   const auto& pos = audit.model.parts[audit.conversion.brick_part[size_t(brick)]].transform.pos;
   return fmt::format("{}:{} {} {} at ({:g}, {:g}, {:g})",
                      std::filesystem::path(b.source.file).filename().string(), b.source.line,
-                     b.type->part, ldraw::ColorTable::standard().name(b.color), pos[0], pos[1],
-                     pos[2]);
+                     b.type->part, audit.model.color_table.name(b.color), pos[0], pos[1], pos[2]);
 }
 
 std::string describe_carried(const Audit& audit, int carried) {
@@ -342,7 +341,7 @@ std::string describe_carried(const Audit& audit, int carried) {
   const auto& pos = audit.model.parts[audit.conversion.carried_part[size_t(carried)]].transform.pos;
   return fmt::format("{}:{} {} {} at ({:g}, {:g}, {:g})",
                      std::filesystem::path(c.source.file).filename().string(), c.source.line,
-                     c.part, ldraw::ColorTable::standard().name(c.color), pos[0], pos[1], pos[2]);
+                     c.part, audit.model.color_table.name(c.color), pos[0], pos[1], pos[2]);
 }
 
 Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,

@@ -166,26 +166,26 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
 }
 
 // LDraw names colours with underscores ("Dark_Bluish_Grey"); a person reads spaces.
-std::string colour_name(int color) {
-  std::string name = ldraw::ColorTable::standard().name(color);
+std::string colour_name(const ldraw::ColorTable& colors, int color) {
+  std::string name = colors.name(color);
   std::replace(name.begin(), name.end(), '_', ' ');
   return name;
 }
 
-std::string swatch(int color) {
-  const auto rgb = ldraw::ColorTable::standard().rgb(color);
+std::string swatch(const ldraw::ColorTable& colors, int color) {
+  const auto rgb = colors.rgb(color);
   return fmt::format(R"(<span class="swatch" style="background:#{:06x}"></span>)",
                      rgb ? *rgb : 0xA0A5A9u);
 }
 
-std::string parts_table(const std::vector<PartCount>& parts) {
+std::string parts_table(const std::vector<PartCount>& parts, const ldraw::ColorTable& colors) {
   std::string out =
       "<table class=\"parts\"><tr><th>count</th><th>colour</th><th>part</th><th>name</th></tr>\n";
   for (const PartCount& p : parts)
     out += fmt::format(
         "<tr><td class=\"count\">{}&times;</td><td>{} {}</td><td>{}</td><td>{}</td></tr>\n",
-        p.quantity, swatch(p.color), html_escape(colour_name(p.color)), html_escape(p.part),
-        html_escape(p.name));
+        p.quantity, swatch(colors, p.color), html_escape(colour_name(colors, p.color)),
+        html_escape(p.part), html_escape(p.name));
   return out + "</table>\n";
 }
 
@@ -229,7 +229,7 @@ td.count {{ font-weight: bold; text-align: right; }}
         "height=\"{}\">\n",
         pictures.cover, kWidth, kHeight);
   if (!b.verdict.empty()) out += fmt::format("<p>{}</p>\n", html_escape(b.verdict));
-  out += "<h2>Parts</h2>\n" + parts_table(b.parts) + "</section>\n";
+  out += "<h2>Parts</h2>\n" + parts_table(b.parts, b.colors) + "</section>\n";
   for (const BookletStep& s : b.steps) {
     out += fmt::format(
         "<section class=\"step\" id=\"step-{0}\" data-step=\"{0}\">\n<h2>Step {0} "
@@ -240,7 +240,7 @@ td.count {{ font-weight: bold; text-align: right; }}
           "<img class=\"picture\" src=\"{}\" alt=\"the model after step {}, new "
           "parts highlighted\" width=\"{}\" height=\"{}\">\n",
           it->second, s.number, kWidth, kHeight);
-    out += parts_table(s.parts);
+    out += parts_table(s.parts, b.colors);
     if (s.stands) {
       out += fmt::format("<p class=\"cm\">The model so far: C_M = {} ({}).</p>\n", cm_text(s.cm_gf),
                          *s.stands ? "it stands" : "it does not stand");
@@ -278,6 +278,7 @@ Booklet booklet_of(const ldraw::Model& model) {
   Booklet b;
   b.title = model.title.empty() ? model.source : model.title;
   b.source = fs::path(model.source).filename().string();
+  b.colors = model.color_table;
   std::map<std::string, std::string> names;
   std::map<int, std::map<std::pair<std::string, int>, PartCount>> by_step;
   std::map<std::pair<std::string, int>, PartCount> all;

@@ -31,6 +31,7 @@ struct Booklet {
   std::vector<PartCount> parts;  // every part of the model
   std::optional<double> cm_gf;   // of the finished model
   std::string verdict;           // one line on the finished model
+  ldraw::ColorTable colors;      // names and looks of the colours (the model's table)
 };
 
 // The parts of a model read from LDraw, step by step (submodels flattened, a submodel's parts in

@@ -83,6 +83,19 @@ TEST(SharedModelsDetail, BulldogWarnsAboutItsMainModelAndCanBeReadWhole) {
   EXPECT_EQ(whole.submodels.size(), 2u);
 }
 
+// Colours our table lacks (the transparent ones) are named by the library's LDConfig.ldr.
+TEST(SharedModelsDetail, TheLibrarysColourTableNamesWhatOursLacks) {
+  SKIP_WITHOUT_SHARED();
+  const auto car = test::shared_dir() / "ldraw-models" / "car.ldr";
+  EXPECT_EQ(read_file(car).color_table.name(36), "colour 36");
+  ReadOptions options;
+  options.library_dirs = {test::shared_dir() / "ldraw-library"};
+  const Model m = read_file(car, options);
+  EXPECT_EQ(m.color_table.name(36), "Trans_Red");
+  EXPECT_EQ(m.color_table.name(4), "Red");  // ours, as before
+  EXPECT_EQ(m.color_table.rgb(36), 0xC91A09u);
+}
+
 TEST(SharedModelsDetail, PackedMpdResolvesEmbeddedParts) {
   SKIP_WITHOUT_SHARED();
   Model m = read_file(test::shared_dir() / "ldraw-models" / "car.ldr_Packed.mpd");
