@@ -1,13 +1,16 @@
 #include "report/audit.h"
 
 #include <fmt/format.h>
+#include <atomic>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 #include "core/error.h"
 #include "ldraw/writer.h"
+#include "physics/interior_point.h"
 #include "physics/world_shape.h"
 
 namespace lego::report {
@@ -382,8 +385,20 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
     for (const Brick& b : audit.conversion.assembly.bricks) last = std::max(last, b.source.step);
     for (const CarriedPart& c : audit.conversion.assembly.carried)
       last = std::max(last, c.source.step);
+    // The steps are independent analyses: two at a time, one BLAS thread each.
+    std::vector<StepAudit> analysed(static_cast<size_t>(std::max(last, 0)));
+    std::atomic<int> next{0};
+    auto work = [&] {
+      for (int k; (k = next++) < last;) analysed[size_t(k)] = audit_step(audit, k + 1, options);
+    };
+    {
+      const physics::OneBlasThreadEach blas_threads(last > 1);
+      std::thread second(work);
+      work();
+      second.join();
+    }
     for (int step = 1; step <= last; ++step) {
-      StepAudit s = audit_step(audit, step, options);
+      const StepAudit& s = analysed[size_t(step - 1)];
       if (s.bricks == 0 && s.status == physics::StabilityStatus::Empty && s.stable) continue;
       if (!s.stable && !audit.first_failing_step) audit.first_failing_step = step;
       audit.steps.push_back(s);
