@@ -188,7 +188,7 @@ int main(int argc, char** argv) {
   int jobs = 2;
   app.add_option("--jobs", jobs,
                  "refinement candidates analysed at once, one thread each (default 2; 1 is the "
-                 "paper's sequential loop)")
+                 "paper's sequential loop); more than 1 also analyses two build steps at once")
       ->check(CLI::Range(1, 64))
       ->group(g_physics);
 
@@ -391,6 +391,7 @@ int main(int argc, char** argv) {
       order_options.stability = refine.stability;
       order_options.min_cm_gf = min_cm;
       order_options.analyse = !no_step_analysis;
+      order_options.side_by_side = jobs > 1;
       auto last_progress = Clock::now();
       order_options.progress = [&](int step, int placed, double seconds) {
         if (quiet || since(last_progress) < 0.5) return;

@@ -249,7 +249,7 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
 
   // Each step is analysed while the next one is, planned as if the first stands (as it nearly
   // always does): two analyses at a time, and the second thrown away when the first needs repair.
-  const physics::OneBlasThreadEach blas_threads(true);
+  const physics::OneBlasThreadEach blas_threads(options.side_by_side);
   std::optional<StepAnalysis> ahead;
   struct Attempt {
     StepAnalysis analysis;
@@ -266,7 +266,7 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
       std::vector<int> fresh = p.next();
       Planner after = p;
       after.commit(fresh);
-      if (after.done() || !options.analyse) {
+      if (after.done() || !options.analyse || !options.side_by_side) {
         now = analyse_step(p, std::move(fresh), options);
         ++out.analyses;
       } else {

@@ -18,6 +18,8 @@ struct BuildOrderOptions {
   // False: the order by studs alone, no step analysed (one analysis per step costs about half
   // the final model's each; the report then says the steps were not analysed).
   bool analyse = true;
+  // Two steps analysed at a time (the next planned as if this one stands); false: one by one.
+  bool side_by_side = true;
   std::function<void(int step, int steps_so_far, double seconds)> progress;  // may be empty
 };
 
@@ -32,7 +34,7 @@ struct BuildStep {
   int floating = 0;  // bricks placed so far that reach no ground
   bool analysed = false;
   bool stands = false;  // when analysed
-  std::string why;  // when it does not stand: what holds it back
+  std::string why;      // when it does not stand: what holds it back
 };
 
 struct BuildOrder {
