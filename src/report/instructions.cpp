@@ -21,6 +21,7 @@ namespace {
 // Marks a folder as ours: a booklet written before may be replaced, nothing else.
 constexpr const char* kGenerator = R"(<meta name="generator" content="legolization booklet">)";
 constexpr int kWidth = 640, kHeight = 480;
+constexpr int kRenderSeconds = 900;  // per LeoCAD run; a large town building takes a minute
 
 std::string html_escape(const std::string& text) {
   std::string out;
@@ -123,7 +124,9 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
   fs::create_directories(scratch);
   auto leocad = [&](const std::string& image, int from, int to, bool highlight) {
     const std::string command = fmt::format(
-        "{}leocad -l {} {}-i {} -w {} -h {} -f {} -t {} --camera-angles 30 45 {} {} >{} 2>&1",
+        "{}{}leocad -l {} {}-i {} -w {} -h {} -f {} -t {} --camera-angles 30 45 {} {} >{} 2>&1",
+        // A renderer that hangs (no X server after all) must not hang the tool.
+        have("timeout") ? fmt::format("timeout {} ", kRenderSeconds) : "",
         display ? "" : "xvfb-run -a ", shell_quote(library.string()),
         submodel.empty() ? std::string() : "-s " + shell_quote(submodel) + " ",
         shell_quote((scratch / image).string()), kWidth, kHeight, from, to,
