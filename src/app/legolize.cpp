@@ -1,6 +1,6 @@
 // legolize: a colored mesh to a LEGO model that stands (paper Algorithm 1): voxels with LEGO
 // proportions, a maximal single-connected brick layout, stability-aware refinement, and LDraw
-// files with a build step per layer.
+// files whose build steps each stand (layout/build_order.h), with instructions on request.
 #include <fmt/format.h>
 #include <unistd.h>
 

@@ -24,11 +24,12 @@ struct LayoutAssembly {
   std::vector<int> layout_id;  // per assembly brick: its id in the layout
 };
 
-// Bricks layer by layer, each layer a build step (Brick::source.step), in building order: first
-// the bricks that rest on the layer below, then outward from them through side neighbours. Lattice
-// z runs opposite to voxel z, which turns the model a half turn about x instead of mirroring it
-// (LDraw is right-handed with -y up). IGNORE bricks get `inside_color`. Throws InputError when a
-// voxel load names an empty voxel.
+// Bricks layer by layer, each layer a build step (Brick::source.step; layout/build_order.h then
+// orders the steps so that each stands), in building order: first the bricks that rest on the
+// layer below, then outward from them through side neighbours. Lattice z runs opposite to voxel
+// z, which turns the model a half turn about x instead of mirroring it (LDraw is right-handed with
+// -y up). IGNORE bricks get `inside_color`. Throws InputError when a voxel load names an empty
+// voxel.
 LayoutAssembly to_assembly(const Layout& layout, const BrickCatalog& catalog, int inside_color,
                            const Loads& loads = {});
 
