@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "app/number_checks.h"
 #include "core/brick_catalog.h"
 #include "core/error.h"
 #include "ldraw/reader.h"
@@ -110,11 +111,12 @@ int main(int argc, char** argv) {
                  "the part this line places is fixed, part of the ground: LINE or FILE:LINE; "
                  "repeatable")
       ->allow_extra_args(false);
-  app.add_option("--min-cm", min_cm, "stability threshold for C_M in grams-force (default 0)");
+  app.add_option("--min-cm", min_cm, "stability threshold for C_M in grams-force (default 0)")
+      ->check(app::finite_number());
   app.add_option("--main", main_model, "the MPD model to check instead of the first FILE");
   app.add_option("--max-seconds", max_seconds,
                  "give up on a model's stability after this long: exit 4, undecided (default 60)")
-      ->check(CLI::PositiveNumber);
+      ->check(app::finite_number(app::Sign::Positive));
   app.add_flag("--json", json, "print JSON on stdout (docs/brickcheck-json.md)");
   app.add_option("--heatmap", heatmap,
                  "write the model coloured by per-brick capacity to this .ldr");
@@ -171,12 +173,26 @@ int main(int argc, char** argv) {
     return kBadInput;
   }
   if (!heatmap.empty()) {
-    for (const auto& f : files) {
+    // Every heat map against every input, before anything is read or written: the heat map of
+    // one file must not replace another file still to be checked, nor the heat map of another.
+    auto same = [](const fs::path& a, const fs::path& b) {
       std::error_code ec;
-      if (fs::equivalent(f, heatmap_path(heatmap, f, files.size() > 1), ec)) {
-        std::cerr << "brickcheck: --heatmap " << heatmap << " would overwrite the input " << f
-                  << "\n";
-        return kBadInput;
+      return fs::equivalent(a, b, ec) || fs::weakly_canonical(a, ec).lexically_normal() ==
+                                             fs::weakly_canonical(b, ec).lexically_normal();
+    };
+    for (size_t i = 0; i < files.size(); ++i) {
+      const fs::path out = heatmap_path(heatmap, files[i], files.size() > 1);
+      for (size_t k = 0; k < files.size(); ++k) {
+        if (same(out, files[k])) {
+          std::cerr << "brickcheck: --heatmap: the heat map of " << files[i] << " (" << out.string()
+                    << ") would overwrite the input " << files[k] << "\n";
+          return kBadInput;
+        }
+        if (k < i && same(out, heatmap_path(heatmap, files[k], true))) {
+          std::cerr << "brickcheck: --heatmap: " << files[k] << " and " << files[i]
+                    << " would write the same heat map " << out.string() << "\n";
+          return kBadInput;
+        }
       }
     }
   }

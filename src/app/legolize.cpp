@@ -5,12 +5,14 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <iostream>
 #include <limits>
 #include <sstream>
 
+#include "app/number_checks.h"
 #include "core/brick_catalog.h"
 #include "core/error.h"
 #include "layout/build_order.h"
@@ -122,7 +124,7 @@ int main(int argc, char** argv) {
   app.add_option("--size", size, "fit within W studs x H bricks x D studs, as WxHxD")
       ->group(g_size);
   app.add_option("--scale", scale, "millimetres per mesh unit (overrides --height and --size)")
-      ->check(CLI::PositiveNumber)
+      ->check(app::finite_number(app::Sign::Positive))
       ->group(g_size);
   app.add_option("--up", up, "the mesh's up axis")
       ->check(CLI::IsMember({"x", "y", "z"}))
@@ -138,6 +140,7 @@ int main(int argc, char** argv) {
                  "LDraw colour for surfaces the mesh gives no colour (default: grey)")
       ->group(g_size);
   app.add_option("--max-voxels", max_voxels, "refuse grids larger than this (default 8,000,000)")
+      ->check(app::finite_number(app::Sign::Positive))
       ->group(g_size);
   app.add_flag("--voxels-only", voxels_only, "write the voxels as 1x1 bricks and stop")
       ->group(g_size);
@@ -150,7 +153,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"hard", "soft"}))
       ->group(g_layout);
   app.add_option("--wc", w_c, "soft colors: larger keeps colors truer (paper's w_c, default 1)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(app::finite_number(app::Sign::NonNegative))
       ->group(g_layout);
   app.add_option("--limit", limits,
                  "at most N bricks of a size or part, optionally in a color: 2x4:100, 2x8:0, "
@@ -165,9 +168,10 @@ int main(int argc, char** argv) {
 
   auto* g_physics = "Stability";
   app.add_option("--min-cm", min_cm, "refine until C_M exceeds this many grams-force (default 0)")
+      ->check(app::finite_number())
       ->group(g_physics);
   app.add_option("--load-top", load_top, "a weight in grams spread over the model's top knobs")
-      ->check(CLI::NonNegativeNumber)
+      ->check(app::finite_number(app::Sign::NonNegative))
       ->group(g_physics);
   app.add_option("--load", loads,
                  "X,Y,Z:GRAMS, a weight on the brick at voxel X,Y,Z (Y = layer; repeatable)")
@@ -227,8 +231,9 @@ int main(int argc, char** argv) {
   rep.min_cm_gf = min_cm;
   try {
     // Everything the user typed is checked before the work starts.
-    const fs::path ext = fs::path(output).extension();
-    if (ext != ".ldr" && ext != ".mpd" && ext != ".LDR" && ext != ".MPD")
+    std::string ext = fs::path(output).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".ldr" && ext != ".mpd")
       throw InputError(output, 0, "-o: the model is written as .ldr or .mpd");
     check_output("-o", output, input);
     check_output("--parts-list", parts_list, input);
@@ -362,6 +367,7 @@ int main(int argc, char** argv) {
     const Assembly& assembly = la.assembly;
     if (voxels_only) {
       rep.status_initial = rep.status_final = "not analysed (--voxels-only)";
+      rep.cm_gf_initial = rep.cm_gf_final = std::numeric_limits<double>::quiet_NaN();  // null
     } else if (no_refine || !rep.single_connected) {
       auto s = physics::analyze_stability(assembly, refine.stability);
       refined.final = s;

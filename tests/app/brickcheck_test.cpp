@@ -120,6 +120,50 @@ TEST(Brickcheck, GroundThresholdAndLoads) {
       << nowhere.out;
 }
 
+// A heat map never replaces an input, its own or another's, nor another input's heat map: the
+// run is refused before anything is read or written.
+TEST(Brickcheck, NoHeatMapEverReplacesAnInput) {
+  const fs::path tower = test::data_dir() / ".." / ".." / "samples" / "tower.ldr";
+  const auto a = scratch("a.ldr"), second = scratch("h-a.ldr");
+  fs::copy_file(tower, a, fs::copy_options::overwrite_existing);
+  fs::copy_file(tower, second, fs::copy_options::overwrite_existing);
+  auto text = [](const fs::path& p) {
+    std::ifstream in(p);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string before = text(second);
+  // With two inputs the heat maps are h-a.ldr and h-h-a.ldr: the first would be the second input.
+  auto run =
+      run_tool("brickcheck", {"--heatmap", scratch("h.ldr").string(), a.string(), second.string()});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("would overwrite the input"), std::string::npos) << run.err;
+  EXPECT_EQ(text(second), before);
+  EXPECT_FALSE(fs::exists(scratch("h-h-a.ldr")));
+  // Two inputs of one name in two folders would write one heat map.
+  fs::create_directories(scratch("d1")), fs::create_directories(scratch("d2"));
+  fs::copy_file(tower, scratch("d1") / "x.ldr", fs::copy_options::overwrite_existing);
+  fs::copy_file(tower, scratch("d2") / "x.ldr", fs::copy_options::overwrite_existing);
+  auto twice = run_tool("brickcheck",
+                        {"--heatmap", scratch("h.ldr").string(), (scratch("d1") / "x.ldr").string(),
+                         (scratch("d2") / "x.ldr").string()});
+  EXPECT_EQ(twice.exit_code, 2);
+  EXPECT_NE(twice.err.find("would write the same heat map"), std::string::npos) << twice.err;
+}
+
+// Thresholds and limits are finite numbers: "nan" is a usage error, not a verdict.
+TEST(Brickcheck, NumbersMustBeFinite) {
+  const fs::path tower = test::data_dir() / ".." / ".." / "samples" / "tower.ldr";
+  for (const std::vector<std::string>& option : {std::vector<std::string>{"--min-cm", "nan"},
+                                                 {"--min-cm", "inf"},
+                                                 {"--max-seconds", "0"},
+                                                 {"--max-seconds", "nan"}}) {
+    auto run = run_tool("brickcheck", {option[0], option[1], tower.string()});
+    EXPECT_EQ(run.exit_code, 2) << option[0] << " " << option[1];
+    EXPECT_NE(run.err.find("is not a finite number"), std::string::npos) << run.err;
+  }
+  EXPECT_EQ(run_tool("brickcheck", {"--min-cm", "-5", "--quiet", tower.string()}).exit_code, 0);
+}
+
 TEST(Brickcheck, BadInputGetsClearMessagesAndExitCodes) {
   auto empty = scratch("empty.ldr");
   std::ofstream(empty) << "0 Nothing here\n0 Name: empty.ldr\n";

@@ -595,5 +595,31 @@ TEST(Legolize, StepsThatFallAreNamedWithWhy) {
   EXPECT_GT(falling, 0);
 }
 
+// Numbers are finite (and positive where they scale or limit), with the reason in words; the
+// output's extension is taken in any case; --voxels-only has no C_M to report.
+TEST(Legolize, NumbersAreFiniteExtensionsAnyCaseAndVoxelsHaveNoCm) {
+  const auto out = scratch("n.ldr");
+  for (const std::vector<std::string>& option : {std::vector<std::string>{"--min-cm", "nan"},
+                                                 {"--scale", "0"},
+                                                 {"--max-voxels", "-1"},
+                                                 {"--load-top", "inf"},
+                                                 {"--wc", "nan"}}) {
+    auto run = run_tool("legolize", {sample("crate.obj").string(), option[0], option[1], "-o",
+                                     out.string(), "--quiet"});
+    EXPECT_EQ(run.exit_code, 2) << option[0] << " " << option[1];
+    EXPECT_NE(run.err.find("is not a finite number"), std::string::npos) << run.err;
+    EXPECT_LT(run.err.size(), 200u) << run.err;  // words, not a range to the largest double
+    EXPECT_FALSE(fs::exists(out));
+  }
+  const auto mixed = scratch("Mixed.Ldr"), report = scratch("voxels.json");
+  auto run = run_tool("legolize", {sample("crate.obj").string(), "--height", "3", "--voxels-only",
+                                   "-o", mixed.string(), "--report", report.string(), "--quiet"});
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(fs::exists(mixed));
+  const auto r = read_json(report);
+  EXPECT_TRUE(r["cm_gf_initial"].is_null());
+  EXPECT_TRUE(r["cm_gf_final"].is_null());
+}
+
 }  // namespace
 }  // namespace lego
