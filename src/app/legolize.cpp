@@ -457,7 +457,11 @@ int main(int argc, char** argv) {
     }
     rep.seconds.emplace_back("output", since(t));
     rep.seconds.emplace_back("total", since(start));
-    if (!report_path.empty()) files.emplace_back(report_path, to_json(rep).dump(2) + "\n");
+    // A file name that is not UTF-8 (a Latin-1 "café.obj") is written with U+FFFD in its place.
+    if (!report_path.empty())
+      files.emplace_back(
+          report_path,
+          to_json(rep).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
     ldraw::write_files_atomically(files);
     if (!instructions.empty()) {
       // The booklet shows the file as written, read back as any LDraw tool would.

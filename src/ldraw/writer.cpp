@@ -37,9 +37,17 @@ std::string brick_line(const Brick& b, const std::array<int, 3>& origin) {
   return line;
 }
 
+// A header field is one line: control characters (a newline in a mesh's file name) would start
+// new LDraw lines of their own.
+std::string one_line(std::string text) {
+  for (char& c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+  return text;
+}
+
 std::string header(const std::string& title, const std::string& name, const std::string& author) {
-  return fmt::format("0 {}\n0 Name: {}\n0 Author: {}\n0 !LDRAW_ORG Unofficial_Model\n\n", title,
-                     name, author);
+  return fmt::format("0 {}\n0 Name: {}\n0 Author: {}\n0 !LDRAW_ORG Unofficial_Model\n\n",
+                     one_line(title), one_line(name), one_line(author));
 }
 
 // Brick indices ordered by step, stable within a step.
@@ -138,9 +146,37 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
   write_files_atomically({{path, text}});
 }
 
-void write_files_atomically(
-    const std::vector<std::pair<std::filesystem::path, std::string>>& files) {
+// Where a file named by the user is written: through a symbolic link to the file it names (the
+// link stays), and straight into what is not a regular file (a device, a FIFO), which cannot be
+// replaced by a rename. A folder is refused.
+struct Destination {
+  std::filesystem::path path;
+  bool direct = false;
+};
+
+Destination destination_of(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
   std::error_code ec;
+  Destination d{path, false};
+  if (fs::is_symlink(fs::symlink_status(path, ec))) {
+    d.path = fs::canonical(path, ec);
+    // A link to nothing that has a name (a dangling link, /dev/stdout to a pipe): through it.
+    if (ec) return {path, true};
+  }
+  const auto status = fs::status(d.path, ec);
+  if (fs::is_directory(status)) throw InputError(path.string(), 0, "is a folder");
+  d.direct = fs::exists(status) && !fs::is_regular_file(status);
+  return d;
+}
+
+void write_files_atomically(
+    const std::vector<std::pair<std::filesystem::path, std::string>>& given) {
+  std::error_code ec;
+  std::vector<std::pair<std::filesystem::path, std::string>> files, direct;
+  for (const auto& [path, text] : given) {
+    const Destination d = destination_of(path);
+    (d.direct ? direct : files).emplace_back(d.path, text);
+  }
   size_t written = 0;
   try {
     for (; written < files.size(); ++written)
@@ -156,6 +192,12 @@ void write_files_atomically(
         std::filesystem::remove(temporary_for(files[k].first), ec);
       throw InputError(files[i].first.string(), 0, "cannot move the written file into place");
     }
+  }
+  for (const auto& [path, text] : direct) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) throw InputError(path.string(), 0, "writing failed");
   }
 }
 

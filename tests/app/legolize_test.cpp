@@ -621,5 +621,52 @@ TEST(Legolize, NumbersAreFiniteExtensionsAnyCaseAndVoxelsHaveNoCm) {
   EXPECT_TRUE(r["cm_gf_final"].is_null());
 }
 
+// Outputs follow what the user named: through a symbolic link (the link stays, its file gets the
+// model), into a device; a mesh file name that is not UTF-8 or holds a newline neither aborts the
+// report nor adds lines to the model's header.
+TEST(Legolize, OutputsGoThroughLinksAndOddFileNamesStayWords) {
+  const fs::path dir = scratch("odd");
+  fs::create_directories(dir);
+  const fs::path latin = dir / "caf\xe9.obj", newline = dir / "a\nb.obj";
+  fs::copy_file(sample("crate.obj"), latin, fs::copy_options::overwrite_existing);
+  fs::copy_file(sample("crate.obj"), newline, fs::copy_options::overwrite_existing);
+  auto run = run_tool("legolize", {latin.string(), "--height", "3", "-o", (dir / "l.ldr").string(),
+                                   "--report", (dir / "l.json").string(), "--quiet"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(read_json(dir / "l.json")["input"].get<std::string>().find("\xEF\xBF\xBD"),
+            std::string::npos);  // U+FFFD for the Latin-1 byte
+
+  const fs::path model = dir / "n.ldr";
+  ASSERT_EQ(
+      run_tool("legolize", {newline.string(), "--height", "3", "-o", model.string(), "--quiet"})
+          .exit_code,
+      0);
+  std::ifstream in(model);
+  std::string first, second;
+  std::getline(in, first), std::getline(in, second);
+  EXPECT_EQ(first, "0 LEGO a b");
+  EXPECT_TRUE(second.starts_with("0 Name:")) << second;
+
+  const fs::path target = dir / "target.ldr", link = dir / "link.ldr";
+  std::ofstream(target) << "old\n";
+  fs::remove(link);
+  fs::create_symlink(target.filename(), link);
+  ASSERT_EQ(run_tool("legolize", {sample("crate.obj").string(), "--height", "3", "-o",
+                                  link.string(), "--quiet"})
+                .exit_code,
+            0);
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(ldraw::read_file(target).parts.size(), ldraw::read_file(link).parts.size());
+  EXPECT_GT(ldraw::read_file(target).parts.size(), 0u);
+
+  auto to_stdout =
+      run_tool("legolize", {sample("crate.obj").string(), "--height", "3", "-o",
+                            (dir / "s.ldr").string(), "--report", "/dev/stdout", "--quiet"});
+  EXPECT_EQ(to_stdout.exit_code, 0) << to_stdout.err;
+  EXPECT_NE(to_stdout.out.find("\"bricks\""), std::string::npos);
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().string().find("tmp-legolization"), std::string::npos) << e.path();
+}
+
 }  // namespace
 }  // namespace lego
