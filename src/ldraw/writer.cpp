@@ -8,6 +8,11 @@
 #include <map>
 #include <system_error>
 
+#include <pthread.h>
+#include <signal.h>
+#include <unistd.h>
+#include <csignal>
+
 #include "core/error.h"
 
 namespace lego::ldraw {
@@ -169,6 +174,73 @@ Destination destination_of(const std::filesystem::path& path) {
   return d;
 }
 
+namespace {
+
+// The temporaries of the outputs being written, for a signal handler to remove: a run stopped by
+// SIGINT, SIGTERM or SIGHUP before its outputs are in place leaves the old files whole and no
+// temporary behind. (Plain arrays: the handler may only call async-signal-safe functions.)
+constexpr int kMaxPending = 64;
+char g_pending[kMaxPending][4096];
+volatile std::sig_atomic_t g_pending_count = 0;
+
+extern "C" void remove_pending_and_stop(int signal_number) {
+  for (int i = 0; i < g_pending_count; ++i) ::unlink(g_pending[i]);
+  ::signal(signal_number, SIG_DFL);
+  ::raise(signal_number);
+}
+
+constexpr int kStopSignals[] = {SIGINT, SIGTERM, SIGHUP};
+
+// While alive: the temporaries are removed if the process is stopped.
+class PendingTemporaries {
+ public:
+  explicit PendingTemporaries(const std::vector<std::filesystem::path>& temporaries) {
+    int n = 0;
+    for (const auto& t : temporaries) {
+      const std::string text = t.string();
+      if (n == kMaxPending || text.size() >= sizeof g_pending[0]) continue;
+      std::copy(text.begin(), text.end(), g_pending[n]);
+      g_pending[n][text.size()] = '\0';
+      ++n;
+    }
+    g_pending_count = n;
+    struct sigaction action {};
+    action.sa_handler = remove_pending_and_stop;
+    sigemptyset(&action.sa_mask);
+    for (size_t i = 0; i < std::size(kStopSignals); ++i)
+      ::sigaction(kStopSignals[i], &action, &previous_[i]);
+  }
+  ~PendingTemporaries() {
+    g_pending_count = 0;
+    for (size_t i = 0; i < std::size(kStopSignals); ++i)
+      ::sigaction(kStopSignals[i], &previous_[i], nullptr);
+  }
+  PendingTemporaries(const PendingTemporaries&) = delete;
+  PendingTemporaries& operator=(const PendingTemporaries&) = delete;
+
+ private:
+  struct sigaction previous_[std::size(kStopSignals)]{};
+};
+
+// Stop signals wait while alive: the renames that put the outputs in place all happen, or none.
+class SignalsWait {
+ public:
+  SignalsWait() {
+    sigset_t set;
+    sigemptyset(&set);
+    for (int s : kStopSignals) sigaddset(&set, s);
+    ::pthread_sigmask(SIG_BLOCK, &set, &previous_);
+  }
+  ~SignalsWait() { ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
+  SignalsWait(const SignalsWait&) = delete;
+  SignalsWait& operator=(const SignalsWait&) = delete;
+
+ private:
+  sigset_t previous_;
+};
+
+}  // namespace
+
 void write_files_atomically(
     const std::vector<std::pair<std::filesystem::path, std::string>>& given) {
   std::error_code ec;
@@ -177,27 +249,33 @@ void write_files_atomically(
     const Destination d = destination_of(path);
     (d.direct ? direct : files).emplace_back(d.path, text);
   }
-  size_t written = 0;
+  std::vector<std::filesystem::path> temporaries;
+  for (const auto& f : files) temporaries.push_back(temporary_for(f.first));
+  const PendingTemporaries pending(temporaries);
+  auto remove_temporaries = [&] {
+    for (const auto& t : temporaries) std::filesystem::remove(t, ec);
+  };
   try {
-    for (; written < files.size(); ++written)
-      write_temporary(files[written].first, files[written].second);
+    for (const auto& [path, text] : files) write_temporary(path, text);
+    // What cannot be renamed into place (a device, a FIFO) is written before anything moves, so
+    // that a failure or a stop there still leaves every old output whole.
+    for (const auto& [path, text] : direct) {
+      std::ofstream out(path, std::ios::binary);
+      out << text;
+      out.flush();
+      if (!out) throw InputError(path.string(), 0, "writing failed");
+    }
   } catch (const InputError&) {
-    for (size_t i = 0; i < written; ++i) std::filesystem::remove(temporary_for(files[i].first), ec);
+    remove_temporaries();
     throw;
   }
+  const SignalsWait wait;
   for (size_t i = 0; i < files.size(); ++i) {
-    std::filesystem::rename(temporary_for(files[i].first), files[i].first, ec);
+    std::filesystem::rename(temporaries[i], files[i].first, ec);
     if (ec) {
-      for (size_t k = i; k < files.size(); ++k)
-        std::filesystem::remove(temporary_for(files[k].first), ec);
+      for (size_t k = i; k < files.size(); ++k) std::filesystem::remove(temporaries[k], ec);
       throw InputError(files[i].first.string(), 0, "cannot move the written file into place");
     }
-  }
-  for (const auto& [path, text] : direct) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) throw InputError(path.string(), 0, "writing failed");
   }
 }
 

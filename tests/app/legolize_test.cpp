@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <array>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -666,6 +670,39 @@ TEST(Legolize, OutputsGoThroughLinksAndOddFileNamesStayWords) {
   EXPECT_NE(to_stdout.out.find("\"bricks\""), std::string::npos);
   for (const auto& e : fs::directory_iterator(dir))
     EXPECT_EQ(e.path().string().find("tmp-legolization"), std::string::npos) << e.path();
+}
+
+// Stopped while writing its outputs (here: blocked on a report FIFO nobody reads, after the model's
+// temporary is written), legolize leaves the old model whole and no temporary behind.
+TEST(Legolize, AStopWhileWritingLeavesTheOldFilesAndNoTemporary) {
+  const fs::path dir = scratch("stop");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path model = dir / "model.ldr", fifo = dir / "report.json";
+  std::ofstream(model) << "0 the old model\n";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string tool = test::tool("legolize").string(), mesh = sample("crate.obj").string();
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl(tool.c_str(), tool.c_str(), mesh.c_str(), "--height", "3", "--quiet", "-o",
+            model.c_str(), "--report", fifo.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  fs::path temporary = model;
+  temporary += ".tmp-legolization";
+  for (int i = 0; i < 600 && !fs::exists(temporary); ++i) ::usleep(50000);
+  ASSERT_TRUE(fs::exists(temporary)) << "legolize never reached its outputs";
+  ::usleep(100000);  // into the blocking open of the FIFO
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
+  std::ifstream in(model);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "0 the old model");
+  EXPECT_FALSE(fs::exists(temporary));
 }
 
 }  // namespace
