@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
                              heatmap, instructions;
   int height = 20, shell = 3, fail_max = 100, default_color = -1;
   size_t max_voxels = 8'000'000;
-  double scale = 0, w_c = 1, min_cm = 0, load_top = 0;
+  double scale = 0, w_c = 1, min_cm = 0, load_top = 0, read_seconds = 120;
   uint64_t seed = 1;
   bool voxels_only = false, solid = false, no_refine = false, quiet = false,
        no_step_analysis = false;
@@ -138,6 +138,11 @@ int main(int argc, char** argv) {
       ->group(g_size);
   app.add_option("--default-color", default_color,
                  "LDraw colour for surfaces the mesh gives no colour (default: grey)")
+      ->group(g_size);
+  app.add_option("--read-seconds", read_seconds,
+                 "the mesh is read first in a child process: give up after this long (default "
+                 "120); a reader that crashes or hangs on the file is then an error, not a crash")
+      ->check(app::finite_number(app::Sign::Positive))
       ->group(g_size);
   app.add_option("--max-voxels", max_voxels, "refuse grids larger than this (default 8,000,000)")
       ->check(app::finite_number(app::Sign::Positive))
@@ -253,6 +258,7 @@ int main(int argc, char** argv) {
       mesh_options.default_color = voxel::from_hex(*rgb);
     }
     mesh_options.up = up == "x" ? mesh::UpAxis::X : up == "z" ? mesh::UpAxis::Z : mesh::UpAxis::Y;
+    mesh_options.guard_seconds = read_seconds;
     const BrickCatalog& catalog = BrickCatalog::standard();
     layout::MergeRules rules;
     rules.color = colors == "soft" ? layout::ColorRule::Soft : layout::ColorRule::Hard;

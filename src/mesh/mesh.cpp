@@ -6,9 +6,16 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <assimp/Importer.hpp>
+#include <cerrno>
 #include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <map>
 #include <system_error>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "core/error.h"
 #include "mesh/image.h"
@@ -107,11 +114,62 @@ Rgb Mesh::color_at(const Triangle& t, double b0, double b1, double b2) const {
           float(b0 * t.color[0].b + b1 * t.color[1].b + b2 * t.color[2].b)};
 }
 
+namespace {
+
+Mesh read_mesh(const std::filesystem::path& path, const MeshOptions& options);
+
+// Reads the file in a child process first: a crash, a hang past the time limit or an allocation
+// that fails there becomes an InputError here. The child exits without cleaning up (_exit), and
+// this runs before any thread of ours starts.
+void read_in_child_first(const std::filesystem::path& path, const MeshOptions& options) {
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) return;  // no child to spare: read it here as before
+  if (pid == 0) {
+    ::alarm(unsigned(std::ceil(options.guard_seconds)));
+    int code = 0;
+    try {
+      read_mesh(path, options);
+    } catch (const InputError&) {
+      code = 0;  // a clean error: the parent finds it again and says it
+    } catch (const std::bad_alloc&) {
+      code = 3;
+    } catch (...) {
+      code = 4;
+    }
+    ::_exit(code);
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
+  std::string why;
+  if (WIFSIGNALED(status) && WTERMSIG(status) == SIGALRM)
+    why = fmt::format("reading it did not end within {:g} s (the reader hangs on this file)",
+                      options.guard_seconds);
+  else if (WIFSIGNALED(status))
+    why = fmt::format("the reader crashed on this file ({})", ::strsignal(WTERMSIG(status)));
+  else if (WEXITSTATUS(status) == 3)
+    why = "reading it needs more memory than there is (a size in the file is out of bounds)";
+  else
+    why = "the reader failed on this file";
+  throw InputError(path.string(), 0, "the mesh cannot be read: " + why);
+}
+
+}  // namespace
+
 Mesh load_mesh(const std::filesystem::path& path, const MeshOptions& options) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(path.string(), 0,
                      std::filesystem::exists(path, ec) ? "not a regular file" : "no such file");
+  if (options.guard_seconds > 0) read_in_child_first(path, options);
+  return read_mesh(path, options);
+}
+
+namespace {
+
+Mesh read_mesh(const std::filesystem::path& path, const MeshOptions& options) {
   Assimp::Importer importer;
   // PreTransformVertices bakes every node's transform into its meshes: one frame for all.
   const aiScene* scene =
@@ -162,5 +220,7 @@ Mesh load_mesh(const std::filesystem::path& path, const MeshOptions& options) {
     }
   return out;
 }
+
+}  // namespace
 
 }  // namespace lego::mesh

@@ -45,11 +45,15 @@ enum class UpAxis { X, Y, Z };
 struct MeshOptions {
   UpAxis up = UpAxis::Y;  // which axis of the file points up; the mesh comes back y-up
   Rgb default_color;      // where the file has no color
+  // The file is read first in a child process with this time limit (0: not at all), so that a
+  // reader that crashes or hangs on a malformed file (Assimp does, on some) ends in an error
+  // naming the file instead of taking the process down.
+  double guard_seconds = 120;
 };
 
 // Reads any format Assimp reads, triangulated, with node transforms baked in. Throws InputError
-// (file as given) for a missing or unreadable file, a file Assimp rejects, no triangles, or
-// non-finite coordinates.
+// (file as given) for a missing or unreadable file, a file Assimp rejects, crashes or hangs on,
+// no triangles, or non-finite coordinates.
 Mesh load_mesh(const std::filesystem::path& path, const MeshOptions& options = {});
 
 }  // namespace lego::mesh

@@ -705,5 +705,35 @@ TEST(Legolize, AStopWhileWritingLeavesTheOldFilesAndNoTemporary) {
   EXPECT_FALSE(fs::exists(temporary));
 }
 
+// A mesh its reader crashes or hangs on (Assimp segfaults on an MTL that gives a texture before any
+// material, and allocates for a binary PLY's claimed billion vertices) is an error naming the
+// file, exit 2, nothing written: the file is read first in a child process with a time limit.
+TEST(Legolize, AReaderThatCrashesOrHangsIsAnErrorNotACrash) {
+  const fs::path dir = scratch("readers");
+  fs::create_directories(dir);
+  std::ofstream(dir / "m.obj") << "mtllib m.mtl\nusemtl wood\nv 0 0 0\nv 10 0 0\nv 0 10 0\nv 0 0 "
+                                  "10\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n";
+  std::ofstream(dir / "m.mtl") << "map_Kd c";
+  auto crash = run_tool("legolize", {(dir / "m.obj").string(), "--height", "3", "-o",
+                                     (dir / "m.ldr").string(), "--quiet"});
+  EXPECT_EQ(crash.exit_code, 2) << crash.err;
+  EXPECT_NE(crash.err.find("m.obj: the mesh cannot be read: the reader crashed"), std::string::npos)
+      << crash.err;
+  EXPECT_FALSE(fs::exists(dir / "m.ldr"));
+
+  {
+    std::ofstream ply(dir / "huge.ply", std::ios::binary);
+    ply << "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\nproperty float x\n"
+           "property float y\nproperty float z\nelement face 10\nproperty list uchar int "
+           "vertex_indices\nend_header\n";
+    ply.write("\0\0\x80\x3f", 4);
+  }
+  auto hang = run_tool("legolize", {(dir / "huge.ply").string(), "--read-seconds", "2", "-o",
+                                    (dir / "h.ldr").string(), "--quiet"});
+  EXPECT_EQ(hang.exit_code, 2) << hang.err;
+  EXPECT_NE(hang.err.find("huge.ply: the mesh cannot be read"), std::string::npos) << hang.err;
+  EXPECT_FALSE(fs::exists(dir / "h.ldr"));
+}
+
 }  // namespace
 }  // namespace lego
