@@ -73,17 +73,19 @@ VoxelGrid voxelize(const mesh::Mesh& m, const VoxelizeOptions& o) {
   }
   g.stud = g.brick / tall;
   g.origin = m.min;
+  // Counted in doubles and checked against the budget before they become ints: a mesh 3e9 units
+  // wide must be refused, not wrap around into a small grid.
   auto cells = [](double extent, double size) {
-    return std::max(1, int(std::ceil(extent / size - 1e-9)));
+    return std::max(1.0, std::ceil(extent / size - 1e-9));
   };
-  g.width = cells(ex, g.stud);
-  g.height = cells(ey, g.brick);
-  g.depth = cells(ez, g.stud);
-  const double total = double(g.width) * g.height * g.depth;
-  if (total > double(o.max_voxels))
+  const double width = cells(ex, g.stud), height = cells(ey, g.brick), depth = cells(ez, g.stud);
+  const double total = width * height * depth;
+  if (!(total <= double(o.max_voxels)))
     throw InputError(m.source, 0,
-                     fmt::format("{} x {} x {} voxels is more than the budget of {} (--max-voxels)",
-                                 g.width, g.height, g.depth, o.max_voxels));
+                     fmt::format("{:.0f} x {:.0f} x {:.0f} voxels is more than the budget of {} "
+                                 "(--max-voxels)",
+                                 width, height, depth, o.max_voxels));
+  g.width = int(width), g.height = int(height), g.depth = int(depth);
   g.cells.assign(size_t(total), Cell::Empty);
   g.color.assign(size_t(total), mesh::Rgb{0, 0, 0});
   std::vector<double> weight(size_t(total), 0.0);

@@ -735,5 +735,18 @@ TEST(Legolize, AReaderThatCrashesOrHangsIsAnErrorNotACrash) {
   EXPECT_FALSE(fs::exists(dir / "h.ldr"));
 }
 
+// A mesh 3e9 units wide at 20 bricks high needs 7.2e9 voxels across: refused by the budget, not
+// wrapped around into a grid one voxel wide.
+TEST(Legolize, AMeshWiderThanTheBudgetIsRefusedNotWrapped) {
+  const fs::path obj = scratch("wide.obj"), out = scratch("wide.ldr");
+  std::ofstream(obj) << "v 0 0 0\nv 3e9 0 0\nv 0 10 0\nv 0 0 10\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 "
+                        "4\n";
+  auto run = run_tool("legolize", {obj.string(), "-o", out.string(), "--quiet"});
+  EXPECT_EQ(run.exit_code, 2) << run.out;
+  EXPECT_NE(run.err.find("7200000000 x 20 x 24 voxels is more than the budget"), std::string::npos)
+      << run.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 }  // namespace
 }  // namespace lego
