@@ -1,5 +1,7 @@
 #include "parts/assembly_builder.h"
 
+#include <filesystem>
+
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
@@ -138,8 +140,24 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     }
     return out_t;
   };
+  // The same part placed twice in one place (a common slip in LDraw editors, which draw one): the
+  // copies are left out, each naming the first, so that they neither weigh nor collide.
+  std::map<std::string, size_t> first_at;
+  auto place_key = [](const ldraw::PlacedPart& p) {
+    std::string key = p.part;
+    for (double v : p.transform.pos) key += fmt::format(" {}", std::llround(v * 100));
+    for (double v : p.transform.rot) key += fmt::format(" {}", std::llround(v * 1000));
+    return key;
+  };
   for (size_t i = 0; i < model.parts.size(); ++i) {
     const ldraw::PlacedPart& p = model.parts[i];
+    if (auto [at, fresh] = first_at.try_emplace(place_key(p), i); !fresh) {
+      const ldraw::PlacedPart& first = model.parts[at->second];
+      out.skipped.push_back(
+          {i, fmt::format("a copy of {}:{}, the same part in the same place",
+                          std::filesystem::path(first.file).filename().string(), first.line)});
+      continue;
+    }
     const ldraw::Transform placed = in_frame(p.transform);
     std::string why;
     const PartKnowledge* k = library.knowledge(p, model, why);
