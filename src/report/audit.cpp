@@ -386,10 +386,17 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
     for (const CarriedPart& c : audit.conversion.assembly.carried)
       last = std::max(last, c.source.step);
     // The steps are independent analyses: two at a time, one BLAS thread each.
+    // They share --max-seconds: a model of ten thousand steps ends undecided, not after hours.
     std::vector<StepAudit> analysed(static_cast<size_t>(std::max(last, 0)));
+    std::vector<char> done(analysed.size(), 0);
     std::atomic<int> next{0};
+    const auto steps_start = std::chrono::steady_clock::now();
     auto work = [&] {
-      for (int k; (k = next++) < last;) analysed[size_t(k)] = audit_step(audit, k + 1, options);
+      for (int k;
+           seconds_since(steps_start) < options.stability.max_seconds && (k = next++) < last;) {
+        analysed[size_t(k)] = audit_step(audit, k + 1, options);
+        done[size_t(k)] = 1;
+      }
     };
     {
       const physics::OneBlasThreadEach blas_threads(last > 1);
@@ -398,6 +405,10 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
       second.join();
     }
     for (int step = 1; step <= last; ++step) {
+      if (!done[size_t(step - 1)]) {
+        audit.unchecked_from_step = step;
+        break;
+      }
       const StepAudit& s = analysed[size_t(step - 1)];
       if (s.bricks == 0 && s.status == physics::StabilityStatus::Empty && s.stable) continue;
       if (!s.stable && !audit.first_failing_step) audit.first_failing_step = step;
@@ -405,6 +416,8 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
     }
     if (audit.first_failing_step && audit.verdict == Verdict::Stable)
       audit.verdict = Verdict::Unstable;
+    else if (audit.unchecked_from_step && audit.verdict == Verdict::Stable)
+      audit.verdict = Verdict::Undecided;
   }
   return audit;
 }

@@ -72,6 +72,8 @@ struct Audit {
   physics::StabilityResult stability;
   std::vector<StepAudit> steps;
   std::optional<int> first_failing_step;
+  // With --steps: the first step left unchecked when --max-seconds ran out (the steps share it).
+  std::optional<int> unchecked_from_step;
   std::vector<std::string> load_notes;  // where each load went
   Verdict verdict = Verdict::Unreadable;
   std::string fatal;  // why the file is unreadable

@@ -133,6 +133,7 @@ json render_json(const Audit& a, const AuditOptions& options) {
            {"floating", s.floating},
            {"cm_gf", number_or_null(s.status == physics::StabilityStatus::Solved, s.cm_gf)}});
     j["first_failing_step"] = a.first_failing_step ? json(*a.first_failing_step) : json(nullptr);
+    j["unchecked_from_step"] = a.unchecked_from_step ? json(*a.unchecked_from_step) : json(nullptr);
   }
   j["lp"] = {{"rows", r.stats.rows}, {"columns", r.stats.columns}, {"nonzeros", r.stats.nonzeros}};
   j["timing"] = {{"parse", a.parse_seconds},

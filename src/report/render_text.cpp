@@ -59,6 +59,9 @@ std::string verdict_reason(const Audit& a) {
   const size_t floating = r.connectivity.floating.size() + r.connectivity.floating_carried.size();
   if (floating) why += fmt::format("; {} floating", plural(floating, "part"));
   if (a.first_failing_step) why += fmt::format("; step {} does not stand", *a.first_failing_step);
+  if (a.unchecked_from_step)
+    why +=
+        fmt::format("; steps from {} on not checked within --max-seconds", *a.unchecked_from_step);
   return why;
 }
 

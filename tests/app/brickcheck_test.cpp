@@ -165,6 +165,26 @@ TEST(Brickcheck, NumbersMustBeFinite) {
   EXPECT_EQ(run_tool("brickcheck", {"--min-cm", "-5", "--quiet", tower.string()}).exit_code, 0);
 }
 
+// The steps share --max-seconds: a model of many steps ends undecided (exit 4) at the budget,
+// saying from which step on nothing was checked, instead of running for hours.
+TEST(Brickcheck, StepsShareTheTimeBudget) {
+  auto path = scratch("many-steps.ldr");
+  {
+    std::ofstream out(path);
+    out << "0 many steps\n";
+    for (int i = 0; i < 120; ++i)
+      out << "1 4 0 " << -24 * (i % 20) << " " << 40 * (i / 20)
+          << " 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n";
+  }
+  json all = check_json({"--steps", path.string()}, 0);
+  EXPECT_TRUE(all["unchecked_from_step"].is_null());
+  EXPECT_EQ(all["steps"].size(), 120u);
+  json cut = check_json({"--steps", "--max-seconds", "0.05", path.string()}, 4);
+  ASSERT_FALSE(cut["unchecked_from_step"].is_null());
+  EXPECT_EQ(cut["steps"].size(), size_t(cut["unchecked_from_step"].get<int>() - 1));
+  EXPECT_EQ(cut["verdict"], "undecided");
+}
+
 TEST(Brickcheck, BadInputGetsClearMessagesAndExitCodes) {
   auto empty = scratch("empty.ldr");
   std::ofstream(empty) << "0 Nothing here\n0 Name: empty.ldr\n";
