@@ -115,7 +115,8 @@ int main(int argc, char** argv) {
       ->check(app::finite_number());
   app.add_option("--main", main_model, "the MPD model to check instead of the first FILE");
   app.add_option("--max-seconds", max_seconds,
-                 "give up on a model's stability after this long: exit 4, undecided (default 60)")
+                 "give up on a model's stability after this long, and on its build steps after as "
+                 "long again: exit 4, undecided (default 60)")
       ->check(app::finite_number(app::Sign::Positive));
   app.add_flag("--json", json, "print JSON on stdout (docs/brickcheck-json.md)");
   app.add_option("--heatmap", heatmap,
