@@ -2,6 +2,7 @@
 
 #include "core/brick_catalog.h"
 #include "core/error.h"
+#include "ldraw/tokens.h"
 
 #include <fmt/format.h>
 #include <algorithm>
@@ -47,22 +48,6 @@ std::string lower(std::string_view s) {
   std::string out(s);
   for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
   return out;
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
-
-// Splits off the next whitespace-separated token; `rest` keeps what follows.
-std::string_view next_token(std::string_view& rest) {
-  rest = trim(rest);
-  size_t end = 0;
-  while (end < rest.size() && !std::isspace(static_cast<unsigned char>(rest[end]))) ++end;
-  std::string_view token = rest.substr(0, end);
-  rest.remove_prefix(end);
-  return token;
 }
 
 std::optional<double> parse_number(std::string_view token) {

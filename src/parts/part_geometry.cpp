@@ -5,27 +5,15 @@
 #include <charconv>
 #include <cmath>
 
+#include "ldraw/tokens.h"
 #include "ldraw/transform.h"
 
 namespace lego::parts {
 namespace {
 
+using ldraw::next_token;
 using ldraw::Transform;
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
-
-std::string_view next_token(std::string_view& rest) {
-  rest = trim(rest);
-  size_t end = 0;
-  while (end < rest.size() && !std::isspace(static_cast<unsigned char>(rest[end]))) ++end;
-  std::string_view token = rest.substr(0, end);
-  rest.remove_prefix(end);
-  return token;
-}
+using ldraw::trim;
 
 bool number(std::string_view token, double& v) {
   if (token.starts_with("+")) token.remove_prefix(1);

@@ -1,22 +1,10 @@
 #include "physics/connectivity.h"
 
 #include <algorithm>
-#include <numeric>
+
+#include "physics/disjoint_sets.h"
 
 namespace lego::physics {
-namespace {
-
-struct DisjointSets {
-  std::vector<int> parent;
-  explicit DisjointSets(int n) : parent(size_t(n)) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int i) {
-    while (parent[size_t(i)] != i) i = parent[size_t(i)] = parent[size_t(parent[size_t(i)])];
-    return i;
-  }
-  void join(int a, int b) { parent[size_t(find(a))] = find(b); }
-};
-
-}  // namespace
 
 Connectivity analyze_connectivity(int brick_count, const ContactGraph& graph) {
   auto fixed = [&](int b) {

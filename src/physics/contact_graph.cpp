@@ -7,6 +7,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "physics/disjoint_sets.h"
 #include "physics/world_shape.h"
 
 namespace lego::physics {
@@ -120,19 +121,6 @@ class BoxIndex {
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
         for (int64_t z = lo[2]; z <= hi[2]; ++z)
           f((uint64_t(x + kOffset) << 42) | (uint64_t(y + kOffset) << 21) | uint64_t(z + kOffset));
-  }
-};
-
-struct DisjointSets {
-  std::vector<int> parent;
-  explicit DisjointSets(int n) : parent(size_t(n)) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int i) {
-    while (parent[size_t(i)] != i) i = parent[size_t(i)] = parent[size_t(parent[size_t(i)])];
-    return i;
-  }
-  void join(int a, int b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);  // the lowest index leads
   }
 };
 
