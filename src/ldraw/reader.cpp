@@ -2,6 +2,7 @@
 
 #include "core/brick_catalog.h"
 #include "core/error.h"
+#include "ldraw/case_insensitive_paths.h"
 #include "ldraw/tokens.h"
 
 #include <fmt/format.h>
@@ -282,41 +283,18 @@ class Parser {
 };
 
 // Finds `relative` under `dir`, matching each path component case-insensitively.
+// A referenced file under `dir`, in any case, when it is a regular file.
 class CaseInsensitiveFinder {
  public:
   std::optional<fs::path> find(const fs::path& dir, std::string_view relative) {
-    fs::path current = dir;
-    std::string rel = normalize_reference(relative);
-    size_t start = 0;
-    while (start <= rel.size()) {
-      size_t slash = rel.find('/', start);
-      std::string part =
-          rel.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
-      if (!part.empty()) {
-        const auto& listing = list(current);
-        auto it = listing.find(part);
-        if (it == listing.end()) return std::nullopt;
-        current /= it->second;
-      }
-      if (slash == std::string::npos) break;
-      start = slash + 1;
-    }
+    auto found = paths_.locate(dir, normalize_reference(relative));
     std::error_code ec;
-    if (!fs::is_regular_file(current, ec)) return std::nullopt;
-    return current;
+    if (!found || !fs::is_regular_file(*found, ec)) return std::nullopt;
+    return found;
   }
 
  private:
-  std::map<fs::path, std::unordered_map<std::string, std::string>> listings_;
-  const std::unordered_map<std::string, std::string>& list(const fs::path& dir) {
-    auto [it, inserted] = listings_.try_emplace(dir);
-    if (inserted) {
-      std::error_code ec;
-      for (fs::directory_iterator d(dir, ec), end; !ec && d != end; d.increment(ec))
-        it->second.emplace(lower(d->path().filename().string()), d->path().filename().string());
-    }
-    return it->second;
-  }
+  CaseInsensitivePaths paths_;
 };
 
 std::optional<std::string> read_bytes(const fs::path& path, std::string& error) {

@@ -54,39 +54,6 @@ std::optional<std::string> read_regular_file(const fs::path& path, std::string& 
 
 LibraryFiles::LibraryFiles(std::vector<fs::path> library_dirs) : dirs_(std::move(library_dirs)) {}
 
-const std::unordered_map<std::string, std::string>& LibraryFiles::listing(const fs::path& dir) {
-  auto [it, inserted] = listings_.try_emplace(dir);
-  if (inserted) {
-    std::error_code ec;
-    for (fs::directory_iterator d(dir, ec), end; !ec && d != end; d.increment(ec)) {
-      std::string name = d->path().filename().string();
-      std::string lower;
-      for (char c : name) lower.push_back(char(std::tolower(static_cast<unsigned char>(c))));
-      it->second.emplace(std::move(lower), std::move(name));
-    }
-  }
-  return it->second;
-}
-
-std::optional<fs::path> LibraryFiles::locate(const fs::path& dir, const std::string& relative) {
-  fs::path current = dir;
-  size_t start = 0;
-  while (start <= relative.size()) {
-    const size_t slash = relative.find('/', start);
-    const std::string part =
-        relative.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
-    if (!part.empty()) {
-      const auto& names = listing(current);
-      auto it = names.find(part);
-      if (it == names.end()) return std::nullopt;
-      current /= it->second;
-    }
-    if (slash == std::string::npos) break;
-    start = slash + 1;
-  }
-  return current;
-}
-
 std::optional<PartFile> LibraryFiles::read(const fs::path& path, std::string& why) {
   const std::string key = "file:" + path.lexically_normal().string();
   auto it = texts_.find(key);
@@ -109,7 +76,7 @@ std::optional<PartFile> LibraryFiles::find(std::string_view reference, std::stri
     std::optional<std::string> key;
     for (const fs::path& dir : dirs_) {
       for (const char* folder : {"parts", "p", "unofficial/parts", "unofficial/p"})
-        if (auto path = locate(dir / folder, name)) {
+        if (auto path = paths_.locate(dir / folder, name)) {
           std::string ignored;
           if (auto file = read(*path, ignored)) {
             key = file->key;

@@ -15,6 +15,8 @@
 #include <utility>
 #include <vector>
 
+#include "ldraw/case_insensitive_paths.h"
+
 namespace lego::parts {
 
 inline constexpr size_t kMaxFileBytes = 64u << 20;
@@ -39,13 +41,9 @@ class LibraryFiles {
 
  private:
   std::vector<std::filesystem::path> dirs_;
-  std::map<std::filesystem::path, std::unordered_map<std::string, std::string>> listings_;
+  ldraw::CaseInsensitivePaths paths_;
   std::unordered_map<std::string, std::unique_ptr<std::string>> texts_;  // by key
   std::unordered_map<std::string, std::optional<std::string>> found_;    // reference -> key
-
-  std::optional<std::filesystem::path> locate(const std::filesystem::path& dir,
-                                              const std::string& relative);
-  const std::unordered_map<std::string, std::string>& listing(const std::filesystem::path& dir);
 };
 
 // A reference as LDraw names files: lower case, forward slashes ("S\\3001S01.DAT" ->

@@ -1,0 +1,44 @@
+#include "ldraw/case_insensitive_paths.h"
+
+#include <cctype>
+
+namespace lego::ldraw {
+
+namespace fs = std::filesystem;
+
+const std::unordered_map<std::string, std::string>& CaseInsensitivePaths::listing(
+    const fs::path& dir) {
+  auto [it, inserted] = listings_.try_emplace(dir);
+  if (inserted) {
+    std::error_code ec;
+    for (fs::directory_iterator d(dir, ec), end; !ec && d != end; d.increment(ec)) {
+      std::string name = d->path().filename().string();
+      std::string lower;
+      for (char c : name) lower.push_back(char(std::tolower(static_cast<unsigned char>(c))));
+      it->second.emplace(std::move(lower), std::move(name));
+    }
+  }
+  return it->second;
+}
+
+std::optional<fs::path> CaseInsensitivePaths::locate(const fs::path& dir,
+                                                     std::string_view relative) {
+  fs::path current = dir;
+  size_t start = 0;
+  while (start <= relative.size()) {
+    const size_t slash = relative.find('/', start);
+    const std::string part(
+        relative.substr(start, slash == std::string_view::npos ? relative.npos : slash - start));
+    if (!part.empty()) {
+      const auto& names = listing(current);
+      auto it = names.find(part);
+      if (it == names.end()) return std::nullopt;
+      current /= it->second;
+    }
+    if (slash == std::string_view::npos) break;
+    start = slash + 1;
+  }
+  return current;
+}
+
+}  // namespace lego::ldraw
