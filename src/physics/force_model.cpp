@@ -1,5 +1,6 @@
 #include "physics/force_model.h"
 
+#include <array>
 #include <cmath>
 
 #include "core/lattice.h"
@@ -36,21 +37,14 @@ class Builder {
     if (brick == kGround) return;  // the ground has no equations
     const int body = s_.body_of[size_t(brick)];
     if (body < 0) return;  // nor have fixed bricks
-    const Vec3& c = centres_[size_t(body)];
-    const Vec3 r{p[0] - c[0], p[1] - c[1], p[2] - c[2]};
-    const double entries[6] = {f[0],
-                               f[1],
-                               f[2],
-                               r[1] * f[2] - r[2] * f[1],
-                               r[2] * f[0] - r[0] * f[2],
-                               r[0] * f[1] - r[1] * f[0]};
+    const auto entries = wrench(body, p, f);
     // Lever arms are differences of coordinates that carry roundoff (a centre averaged over
     // boxes): a 1e-16 entry is a zero, and kept it makes its row nearly empty, not empty,
     // which the interior point method cannot tell from a real equation.
     for (int e = 0; e < 6; ++e)
-      if (std::abs(entries[e]) > kNegligible) {
+      if (std::abs(entries[size_t(e)]) > kNegligible) {
         s_.row_index.push_back(EquilibriumSystem::row(body, e));
-        s_.value.push_back(entries[e]);
+        s_.value.push_back(entries[size_t(e)]);
       }
   }
   // A moment `m` (per unit of the column's value) on `brick`.
@@ -69,20 +63,25 @@ class Builder {
   }
   // A fixed force on a body, moved to the right-hand side.
   void load(int body, const Vec3& p, const Vec3& f) {
-    const Vec3& c = centres_[size_t(body)];
-    const Vec3 r{p[0] - c[0], p[1] - c[1], p[2] - c[2]};
-    const double wrench[6] = {f[0],
-                              f[1],
-                              f[2],
-                              r[1] * f[2] - r[2] * f[1],
-                              r[2] * f[0] - r[0] * f[2],
-                              r[0] * f[1] - r[1] * f[0]};
-    for (int e = 0; e < 6; ++e) s_.rhs[size_t(EquilibriumSystem::row(body, e))] -= wrench[e];
+    const auto w = wrench(body, p, f);
+    for (int e = 0; e < 6; ++e) s_.rhs[size_t(EquilibriumSystem::row(body, e))] -= w[size_t(e)];
   }
 
  private:
   EquilibriumSystem& s_;
   std::vector<Vec3> centres_;
+
+  // Force and moment about the body's centre of `f` applied at `p`.
+  std::array<double, 6> wrench(int body, const Vec3& p, const Vec3& f) const {
+    const Vec3& c = centres_[size_t(body)];
+    const Vec3 r{p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+    return {f[0],
+            f[1],
+            f[2],
+            r[1] * f[2] - r[2] * f[1],
+            r[2] * f[0] - r[0] * f[2],
+            r[0] * f[1] - r[1] * f[0]};
+  }
 };
 
 }  // namespace

@@ -18,6 +18,28 @@ int heat_color(double capacity) {
   return 2;                      // Green: (almost) no pull
 }
 
+namespace {
+
+// The map's colour key (ending with `rest`, what else is coloured), C_M and the five weakest
+// contacts, as comments.
+std::string legend(const physics::StabilityResult& r, const char* rest,
+                   const std::function<std::string(int)>& describe) {
+  std::string out =
+      "0 // Colours by the share of the friction limit T a brick's worst knob uses: red >= 100%\n"
+      "0 // (overloaded), orange >= 50%, light orange >= 20%, yellow >= 5%, lime >= 0.5%,\n";
+  out += rest;
+  if (r.status == physics::StabilityStatus::Solved)
+    out += fmt::format("0 // C_M = {:.3f} gf\n", r.cm_gf());
+  for (size_t i = 0; i < r.weakest.size() && i < 5; ++i) {
+    const auto& wk = r.weakest[i];
+    out += fmt::format("0 // weakest {}: {} holding {} ({:.1f}% of the binding duals)\n", i + 1,
+                       describe(wk.lower), describe(wk.upper), 100 * wk.share);
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string render_heatmap(const Assembly& assembly, const physics::StabilityResult& stability,
                            const std::string& title, const std::string& author,
                            const std::function<std::string(int)>& describe) {
@@ -31,17 +53,7 @@ std::string render_heatmap(const Assembly& assembly, const physics::StabilityRes
   w.author = author;
   w.steps = false;
   std::string body = ldraw::to_ldr(coloured, w);
-  std::string notes =
-      "0 // Colours by the share of the friction limit T a brick's worst knob uses: red >= 100%\n"
-      "0 // (overloaded), orange >= 50%, light orange >= 20%, yellow >= 5%, lime >= 0.5%,\n"
-      "0 // green below; grey = not computed.\n";
-  if (stability.status == physics::StabilityStatus::Solved)
-    notes += fmt::format("0 // C_M = {:.3f} gf\n", stability.cm_gf());
-  for (size_t i = 0; i < stability.weakest.size() && i < 5; ++i) {
-    const auto& wk = stability.weakest[i];
-    notes += fmt::format("0 // weakest {}: {} holding {} ({:.1f}% of the binding duals)\n", i + 1,
-                         describe(wk.lower), describe(wk.upper), 100 * wk.share);
-  }
+  const std::string notes = legend(stability, "0 // green below; grey = not computed.\n", describe);
   // After the header (five lines and a blank), before the bricks.
   size_t at = 0;
   for (int k = 0; k < 5; ++k) at = body.find('\n', at) + 1;
@@ -72,18 +84,11 @@ std::string render_heatmap(const Audit& a) {
       "0 {}\n0 Name: heatmap.ldr\n0 Author: brickcheck\n"
       "0 !LDRAW_ORG Unofficial_Model\n\n",
       title);
-  out +=
-      "0 // Colours by the share of the friction limit T a brick's worst knob uses: red >= 100%\n"
-      "0 // (overloaded), orange >= 50%, light orange >= 20%, yellow >= 5%, lime >= 0.5%,\n"
-      "0 // green below. Light grey: carried (its weight counted, its connections assumed) or\n"
-      "0 // not computed; dark grey: the ground; black: floating; white: left out.\n";
-  if (r.status == physics::StabilityStatus::Solved)
-    out += fmt::format("0 // C_M = {:.3f} gf\n", r.cm_gf());
-  for (size_t i = 0; i < r.weakest.size() && i < 5; ++i) {
-    const auto& wk = r.weakest[i];
-    out += fmt::format("0 // weakest {}: {} holding {} ({:.1f}% of the binding duals)\n", i + 1,
-                       describe_brick(a, wk.lower), describe_brick(a, wk.upper), 100 * wk.share);
-  }
+  out += legend(r,
+                "0 // green below. Light grey: carried (its weight counted, its connections "
+                "assumed) or\n"
+                "0 // not computed; dark grey: the ground; black: floating; white: left out.\n",
+                [&](int b) { return describe_brick(a, b); });
   for (const auto& group : r.graph.carried_groups) {
     if (!group.assumed_joint()) continue;
     std::string through, joins;
