@@ -18,10 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::run_tool;
 
-bool have(const char* program) {
-  return std::system((std::string("command -v ") + program + " >/dev/null 2>&1").c_str()) == 0;
-}
-
 std::string text_of(const fs::path& p) {
   std::ifstream in(p);
   return std::string(std::istreambuf_iterator<char>(in), {});
@@ -70,7 +66,7 @@ class Booklet : public testing::Test {
 // legolize's booklet: a page per step with its picture (every one shown in a real browser), its
 // parts and its C_M, and a cover with the finished model and every part.
 TEST_F(Booklet, LegolizeWritesAPagePerStepThatABrowserShows) {
-  if (!have("leocad") || !have("xvfb-run") || !have("chromium"))
+  if (!test::have("leocad") || !test::have("xvfb-run") || !test::have("chromium"))
     GTEST_SKIP() << "leocad, xvfb-run or chromium is not installed";
   const fs::path book = dir_ / "crate-book", model = dir_ / "crate.mpd", report = dir_ / "r.json";
   auto run =

@@ -17,10 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool have(const char* program) {
-  return std::system((std::string("command -v ") + program + " >/dev/null 2>&1").c_str()) == 0;
-}
-
 struct Image {
   int width = 0, height = 0;
   std::vector<unsigned char> rgb;
@@ -76,7 +72,8 @@ void expect_renders(const fs::path& model, const fs::path& png, size_t min_pixel
 class LeoCad : public testing::Test {
  protected:
   void SetUp() override {
-    if (!have("leocad") || !have("xvfb-run")) GTEST_SKIP() << "leocad or xvfb-run is not installed";
+    if (!test::have("leocad") || !test::have("xvfb-run"))
+      GTEST_SKIP() << "leocad or xvfb-run is not installed";
     dir_ = test::scratch("lego_render_", "");
     fs::remove_all(dir_);
     fs::create_directories(dir_);

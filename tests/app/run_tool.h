@@ -4,6 +4,7 @@
 #include <unistd.h>
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -15,6 +16,11 @@ struct ToolRun {
   std::string out;  // stdout
   std::string err;  // stderr
 };
+
+// Whether a program is on the PATH (tests of real clients skip without it).
+inline bool have(const char* program) {
+  return std::system((std::string("command -v ") + program + " >/dev/null 2>&1").c_str()) == 0;
+}
 
 inline std::filesystem::path tool(const std::string& name) {
   return std::filesystem::path(LEGOLIZATION_BINARY_DIR) / "src" / "app" / name;
