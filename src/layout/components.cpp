@@ -9,20 +9,14 @@ ComponentAnalysis analyze_components(const Layout& layout, Random& rng, bool gro
   result.component.assign(layout.id_limit(), -1);
   std::vector<int> stack, around;
   const std::vector<int> ids = layout.brick_ids();
-  std::vector<int> starts;
-  if (ground_connects)  // the ground's component first: every brick on it starts the search
-    for (int id : ids)
-      if (layout.brick(id).y == 0) starts.push_back(id);
-  for (int start : ids) {
-    if (result.component[start] >= 0) continue;
+  // One component from the seeds: a depth-first search over snaps.
+  auto flood = [&](const std::vector<int>& seeds) {
     const int id = result.count++;
     int size = 0;
-    if (starts.empty()) starts.push_back(start);
-    for (int s : starts) {
+    for (int s : seeds) {
       result.component[s] = id;
       stack.push_back(s);
     }
-    starts.clear();
     while (!stack.empty()) {
       const int b = stack.back();
       stack.pop_back();
@@ -36,7 +30,15 @@ ComponentAnalysis analyze_components(const Layout& layout, Random& rng, bool gro
         }
     }
     result.sizes.push_back(size);
+  };
+  if (ground_connects) {  // the ground's component first: every brick on it starts the search
+    std::vector<int> on_ground;
+    for (int id : ids)
+      if (layout.brick(id).y == 0) on_ground.push_back(id);
+    if (!on_ground.empty()) flood(on_ground);
   }
+  for (int start : ids)
+    if (result.component[start] < 0) flood({start});
   if (result.count <= 1) return result;
 
   std::vector<int> candidates, weights, seen;
