@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "app/number_checks.h"
+#include "app/output_paths.h"
 #include "core/brick_catalog.h"
 #include "core/error.h"
 #include "ldraw/reader.h"
@@ -176,20 +177,21 @@ int main(int argc, char** argv) {
   if (!heatmap.empty()) {
     // Every heat map against every input, before anything is read or written: the heat map of
     // one file must not replace another file still to be checked, nor the heat map of another.
-    auto same = [](const fs::path& a, const fs::path& b) {
-      std::error_code ec;
-      return fs::equivalent(a, b, ec) || fs::weakly_canonical(a, ec).lexically_normal() ==
-                                             fs::weakly_canonical(b, ec).lexically_normal();
-    };
     for (size_t i = 0; i < files.size(); ++i) {
       const fs::path out = heatmap_path(heatmap, files[i], files.size() > 1);
+      try {
+        app::check_outputs({{"--heatmap", out.string()}}, {});
+      } catch (const InputError& e) {
+        std::cerr << "brickcheck: " << e.what() << "\n";
+        return kBadInput;
+      }
       for (size_t k = 0; k < files.size(); ++k) {
-        if (same(out, files[k])) {
+        if (app::same_file(out, files[k])) {
           std::cerr << "brickcheck: --heatmap: the heat map of " << files[i] << " (" << out.string()
                     << ") would overwrite the input " << files[k] << "\n";
           return kBadInput;
         }
-        if (k < i && same(out, heatmap_path(heatmap, files[k], true))) {
+        if (k < i && app::same_file(out, heatmap_path(heatmap, files[k], true))) {
           std::cerr << "brickcheck: --heatmap: " << files[k] << " and " << files[i]
                     << " would write the same heat map " << out.string() << "\n";
           return kBadInput;

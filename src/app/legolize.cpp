@@ -8,14 +8,19 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "app/number_checks.h"
+#include "app/output_paths.h"
 #include "core/brick_catalog.h"
 #include "core/error.h"
+#include "core/lattice.h"
 #include "layout/build_order.h"
+#include "layout/pieces.h"
 #include "layout/reconfigure.h"
 #include "layout/refine.h"
 #include "layout/to_assembly.h"
@@ -35,6 +40,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kInsideColor = 72;  // Dark Bluish Grey: voxels whose color does not matter (IGNORE)
+constexpr int kUncolouredColor = 71;  // Light Bluish Grey: surfaces the mesh gives no colour
 constexpr int kExitUnstable = 1, kExitBadInput = 2;
 
 using Clock = std::chrono::steady_clock;
@@ -44,6 +50,7 @@ double since(Clock::time_point t) {
 
 voxel::Palette parse_palette(const std::string& spec) {
   const auto& table = ldraw::ColorTable::standard();
+  if (spec == "current") return voxel::Palette::current(table);
   if (spec == "paper") return voxel::Palette::paper(table);
   if (spec == "all") return voxel::Palette::all(table);
   std::vector<int> codes;
@@ -78,33 +85,153 @@ layout::VoxelLoad parse_load(const std::string& spec) {
   return load;
 }
 
-// Fails before any work when an output cannot be written or would overwrite the input.
-void check_output(const std::string& option, const std::string& path, const fs::path& input) {
-  if (path.empty()) return;
-  const fs::path p(path);
-  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw InputError(path, 0, option + ": the folder " + dir.string() + " does not exist");
-  if (::access(dir.c_str(), W_OK) != 0)
-    throw InputError(path, 0, option + ": the folder " + dir.string() + " is not writable");
-  if (fs::is_directory(p, ec)) throw InputError(path, 0, option + ": is a folder");
-  if (fs::exists(p, ec) && fs::equivalent(p, input, ec))
-    throw InputError(path, 0, option + ": would overwrite the input mesh");
-}
-
 std::string cm_words(double cm_gf) {
   return std::isfinite(cm_gf) ? fmt::format("{:.3f} gf", cm_gf) : std::string("no equilibrium");
+}
+
+std::string report_json(const report::ConversionReport& rep) {
+  // A file name that is not UTF-8 (a Latin-1 "café.obj") is written with U+FFFD in its place.
+  return to_json(rep).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+// "heat.ldr" -> "heat-piece-2.ldr": the file of a model's further piece.
+fs::path piece_file(const fs::path& path, int piece) {
+  return path.parent_path() /
+         fmt::format("{}-piece-{}{}", path.stem().string(), piece, path.extension().string());
+}
+
+struct PieceResult;
+std::string describe_brick(const PieceResult& piece, int brick);
+
+// How every piece is converted: the options the user gave, shared by all pieces.
+struct PieceSettings {
+  const BrickCatalog* catalog = nullptr;
+  layout::MergeRules* rules = nullptr;  // its limits are used up piece by piece
+  layout::RefineOptions refine;
+  layout::ConnectOptions connect;
+  layout::BuildOrderOptions order;
+  bool refine_layout = true;
+  double min_cm = 0;
+  std::function<void(const std::string&)> stage;
+};
+
+// One piece of the model (layout/pieces.h), from its voxels to an assembly whose build steps
+// stand: layout initialization with thin parts joined (Algorithm 3), stability-aware refinement
+// (Algorithm 7) and the build order.
+struct PieceResult {
+  int lift = 0, objects = 0;
+  size_t voxels = 0;
+  std::optional<layout::Layout> lay;
+  layout::LayoutAssembly la;
+  layout::ConnectResult connect;
+  int pieces_before = 0;
+  size_t voxels_added = 0;
+  layout::RefineResult refined;  // `final` is the finished piece's analysis
+  bool refined_layout = false;
+  bool stable = true, steps_stand = true;
+  std::string bottleneck;
+  layout::BuildOrder order;
+  double seconds_initialize = 0, seconds_refine = 0, seconds_order = 0;
+};
+
+PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings& s) {
+  PieceResult out;
+  out.lift = piece.lift;
+  out.objects = piece.objects;
+  out.voxels = piece.voxels;
+  auto t = Clock::now();
+  layout::JoinedLayout joined =
+      layout::initialize_joined(std::move(piece.target), *s.rules, rng, s.connect);
+  out.lay = std::move(joined.layout);
+  layout::Layout& lay = *out.lay;
+  out.connect = joined.connect;
+  out.pieces_before = joined.pieces_before;
+  out.voxels_added = joined.voxels_added;
+  if (auto exceeded = s.rules->limits.exceeded(lay); !exceeded.empty()) {
+    std::string words;
+    for (const auto& e : exceeded) words += "\n  " + e;
+    throw InputError("", 0, "impossible limits: the model needs more bricks than allowed:" + words);
+  }
+  s.rules->limits.use_up(lay);
+  out.seconds_initialize = since(t);
+  s.stage(fmt::format("initialized: {} bricks, {} component{} ({} at first{})", lay.brick_count(),
+                      out.connect.components, out.connect.components == 1 ? "" : "s",
+                      out.pieces_before,
+                      out.voxels_added ? fmt::format("; {} voxels added to join thin parts in {} "
+                                                     "rounds",
+                                                     out.voxels_added, joined.rounds)
+                                       : std::string()));
+  if (!out.connect.single) {
+    out.stable = false;
+    out.bottleneck = fmt::format(
+        "no single connected layout after {} failed tries: {} parts that no brick joins",
+        s.refine.fail_max, out.connect.components);
+  }
+  t = Clock::now();
+  if (out.connect.single && s.refine_layout) {
+    s.stage("refining");
+    out.refined = layout::refine_layout(lay, *s.catalog, *s.rules, rng, s.refine);
+    out.refined_layout = true;
+    out.stable = out.refined.stable;
+    s.stage(fmt::format(
+        "refined: C_M {} -> {}, {} iterations, {} accepted; {} whole-model analyses, {} "
+        "candidates rejected on local bounds ({:.2f} s)",
+        cm_words(layout::comparable_cm_gf(out.refined.initial)),
+        cm_words(layout::comparable_cm_gf(out.refined.final)), out.refined.iterations,
+        out.refined.accepted, out.refined.lp_solves, out.refined.rejected_by_bound,
+        out.refined.bound_seconds));
+  }
+  out.seconds_refine = since(t);
+  out.la = layout::to_assembly(lay, *s.catalog, s.refine.inside_color, s.refine.loads);
+  if (!out.refined_layout) {
+    out.refined.initial = out.refined.final =
+        physics::analyze_stability(out.la.assembly, s.refine.stability);
+    out.stable = out.stable && out.refined.final.stable(s.min_cm);
+  }
+  if (!out.stable && out.bottleneck.empty()) {
+    const auto& f = out.refined.final;
+    out.bottleneck = f.weakest.empty()
+                         ? std::string(physics::to_string(f.status))
+                         : describe_brick(out, f.weakest.front().lower) + " holding " +
+                               describe_brick(out, f.weakest.front().upper);
+  }
+  // A building order in which every step stands (the paper's first limitation).
+  t = Clock::now();
+  out.order = layout::plan_build_order(out.la.assembly, s.order);
+  const std::vector<int> moved = layout::apply_build_order(out.la.assembly, out.order);
+  std::vector<int> layout_id(moved.size());
+  for (size_t k = 0; k < moved.size(); ++k) layout_id[k] = out.la.layout_id[size_t(moved[k])];
+  out.la.layout_id = std::move(layout_id);
+  out.steps_stand = !s.order.analyse || out.order.all_stand();
+  out.seconds_order = since(t);
+  s.stage(s.order.analyse
+              ? fmt::format("build order: {} steps, {}; smallest step C_M {}; {} analyses, "
+                            "{:.2f} s",
+                            out.order.steps.size(),
+                            out.steps_stand ? "every one stands" : "NOT every one stands",
+                            cm_words(out.order.min_cm_gf()), out.order.analyses, out.order.seconds)
+              : fmt::format("build order: {} steps, not analysed", out.order.steps.size()));
+  // Where the piece was lowered from: its bricks go back there in the model.
+  out.la.assembly.origin_ldu[1] -= out.lift * kPlatesPerBrick * kLduPerPlate;
+  return out;
+}
+
+std::string describe_brick(const PieceResult& p, int brick) {
+  if (brick == physics::kGround) return "the ground";
+  const Brick& b = p.la.assembly.bricks[size_t(brick)];
+  const layout::LayoutBrick& lb = p.lay->brick(p.la.layout_id[size_t(brick)]);
+  return fmt::format("{} {} at voxel {},{},{}", b.type->part, b.type->name, lb.x, lb.y + p.lift,
+                     lb.z);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"legolize: turn a colored 3D mesh into a LEGO model that stands"};
-  std::string input, output, up = "y", palette_spec = "paper", size, colors = "hard",
+  std::string input, output, up = "auto", palette_spec = "current", size, colors = "hard",
                              ground = "baseplate", inventory, parts_list, bricklink, report_path,
                              heatmap, instructions;
-  int height = 20, shell = 3, fail_max = 100, default_color = -1;
+  int height = 20, shell = 3, fail_max = 100, default_color = kUncolouredColor;
   size_t max_voxels = 8'000'000;
   double scale = 0, w_c = 1, min_cm = 0, load_top = 0, read_seconds = 120;
   uint64_t seed = 1;
@@ -126,18 +253,28 @@ int main(int argc, char** argv) {
   app.add_option("--scale", scale, "millimetres per mesh unit (overrides --height and --size)")
       ->check(app::finite_number(app::Sign::Positive))
       ->group(g_size);
-  app.add_option("--up", up, "the mesh's up axis")
-      ->check(CLI::IsMember({"x", "y", "z"}))
+  app.add_option("--up", up,
+                 "the mesh's up axis in the file's own coordinates: x, -x, y, -y, z, -z, or auto "
+                 "(default: what the file or its format declares, else y)")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            return text == "auto" || mesh::parse_up_axis(text)
+                       ? std::string()
+                       : "'" + text + "' is not auto, x, -x, y, -y, z or -z";
+          },
+          "AXIS"))
       ->group(g_size);
   app.add_option("--shell", shell, "keep voxels within N voxels of the surface (default 3)")
       ->check(CLI::Range(1, 1000))
       ->group(g_size);
   app.add_flag("--solid", solid, "do not hollow")->group(g_size);
   app.add_option("--palette", palette_spec,
-                 "paper (the paper's eight colours), all, or LDraw codes: 15,4,1")
+                 "current (default: 39 colours LEGO makes today, each on BrickLink), paper (the "
+                 "paper's eight), all (every solid LDraw colour), or LDraw codes: 15,4,1")
       ->group(g_size);
   app.add_option("--default-color", default_color,
-                 "LDraw colour for surfaces the mesh gives no colour (default: grey)")
+                 "LDraw colour for surfaces the mesh gives no colour (default 71, Light Bluish "
+                 "Grey); it joins the palette")
       ->group(g_size);
   app.add_option("--read-seconds", read_seconds,
                  "the mesh is read first in a child process: give up after this long (default "
@@ -196,8 +333,8 @@ int main(int argc, char** argv) {
       ->group(g_physics);
   int jobs = 2;
   app.add_option("--jobs", jobs,
-                 "refinement candidates analysed at once, one thread each (default 2; 1 is the "
-                 "paper's sequential loop); more than 1 also analyses two build steps at once")
+                 "analyses run at once, one thread each (default 2): the refinement's two "
+                 "candidates per round and two build steps; the output does not depend on it")
       ->check(CLI::Range(1, 64))
       ->group(g_physics);
 
@@ -213,6 +350,11 @@ int main(int argc, char** argv) {
                  "(LeoCAD), its parts and its C_M")
       ->group(g_out);
   app.add_flag("--quiet", quiet, "no progress on stderr")->group(g_out);
+  bool strict = false;
+  app.add_flag("--strict", strict,
+               "what the mesh names but cannot be used (a texture not found or unreadable) is an "
+               "error (exit 2) instead of a warning")
+      ->group(g_out);
   app.footer(
       "Exit codes: 0 written, stable, and every build step stands; 1 written, but unstable, not "
       "one connected piece, or a build step falls (the report and summary say where); 2 usage "
@@ -240,24 +382,25 @@ int main(int argc, char** argv) {
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (ext != ".ldr" && ext != ".mpd")
       throw InputError(output, 0, "-o: the model is written as .ldr or .mpd");
-    check_output("-o", output, input);
-    check_output("--parts-list", parts_list, input);
-    check_output("--bricklink", bricklink, input);
-    check_output("--report", report_path, input);
-    check_output("--heatmap", heatmap, input);
+    app::check_outputs({{"-o", output},
+                        {"--parts-list", parts_list},
+                        {"--bricklink", bricklink},
+                        {"--report", report_path},
+                        {"--heatmap", heatmap}},
+                       {input});
     if (!instructions.empty()) report::check_booklet_folder(instructions);
     if (voxels_only && !heatmap.empty())
       throw InputError("", 0, "--heatmap needs the brick layout; --voxels-only stops before it");
-    const voxel::Palette palette = parse_palette(palette_spec);
     mesh::MeshOptions mesh_options;
-    if (default_color >= 0) {
-      auto rgb = ldraw::ColorTable::standard().rgb(default_color);
-      if (!rgb)
-        throw InputError(
-            "", 0, fmt::format("--default-color: {} is not in the colour table", default_color));
-      mesh_options.default_color = voxel::from_hex(*rgb);
-    }
-    mesh_options.up = up == "x" ? mesh::UpAxis::X : up == "z" ? mesh::UpAxis::Z : mesh::UpAxis::Y;
+    const auto default_rgb = ldraw::ColorTable::standard().rgb(default_color);
+    if (!default_rgb || default_color == ldraw::kMainColor || default_color == ldraw::kEdgeColor)
+      throw InputError(
+          "", 0, fmt::format("--default-color: {} is not in the colour table", default_color));
+    mesh_options.default_color = voxel::from_hex(*default_rgb);
+    // Uncoloured surfaces match the default exactly: it is in the palette.
+    const voxel::Palette palette =
+        parse_palette(palette_spec).with(default_color, ldraw::ColorTable::standard());
+    if (up != "auto") mesh_options.up = mesh::parse_up_axis(up);
     mesh_options.guard_seconds = read_seconds;
     const BrickCatalog& catalog = BrickCatalog::standard();
     layout::MergeRules rules;
@@ -269,7 +412,7 @@ int main(int argc, char** argv) {
     layout::RefineOptions refine;
     refine.min_cm_gf = min_cm;
     refine.fail_max = fail_max;
-    refine.candidates_per_round = jobs;
+    refine.side_by_side = jobs > 1;
     if (no_local_bounds) refine.bound_ring = -1;
     refine.inside_color = kInsideColor;
     refine.stability.ground =
@@ -284,171 +427,196 @@ int main(int argc, char** argv) {
     auto t = Clock::now();
     stage("reading " + input);
     const mesh::Mesh m = mesh::load_mesh(input, mesh_options);
+    rep.up = m.up;
+    for (const std::string& w : m.warnings) {
+      if (strict) throw InputError(input, 0, w + " (--strict)");
+      std::cerr << "legolize: warning: " << w << "\n";
+      rep.warnings.push_back(w);
+    }
     rep.seconds.emplace_back("mesh", since(t));
     t = Clock::now();
     voxel::VoxelGrid grid = voxel::voxelize(m, vo);
     if (!solid) voxel::hollow(grid, shell);
-    layout::Layout lay(layout::target_from_voxels(grid, palette));
+    rep.inside_voxels_coloured = voxel::colour_seen_inside(grid);
+    const layout::Target target = layout::target_from_voxels(grid, palette);
     rep.voxels = {grid.width, grid.height, grid.depth};
-    rep.voxels_filled = lay.target().filled();
+    rep.voxels_filled = target.filled();
     rep.seconds.emplace_back("voxelize", since(t));
-    stage(fmt::format("{} x {} x {} voxels, {} kept", grid.width, grid.height, grid.depth,
-                      rep.voxels_filled));
+    stage(fmt::format("{} x {} x {} voxels, {} kept; up is {}", grid.width, grid.height, grid.depth,
+                      rep.voxels_filled, m.up));
     if (rep.voxels_filled == 0) throw InputError(input, 0, "the mesh leaves no voxel to build");
     for (const auto& l : refine.loads.at_voxels)
-      if (lay.brick_at(l.x, l.y, l.z) < 0)
+      if (target.at(l.x, l.y, l.z) == layout::kEmpty)
         throw InputError("", 0,
                          fmt::format("--load {},{},{}: no voxel there (the grid is {} x {} x {})",
                                      l.x, l.y, l.z, grid.width, grid.height, grid.depth));
 
-    Random rng(seed);
-    bool stable = true;
-    layout::RefineResult refined;
-    if (!voxels_only) {
-      // Layout initialization (Algorithm 3).
-      t = Clock::now();
-      layout::ConnectOptions connect;
-      connect.fail_max = fail_max;
-      // Pieces standing on the ground are not floating: the stability analysis judges them.
-      connect.ground_connects = refine.ground_connects = true;
-      auto last = Clock::now();
-      connect.progress = [&](int iteration, int components, int fails) {
-        if (quiet || since(last) < 0.5) return;
-        last = Clock::now();
-        stage(fmt::format("initialize: iteration {}, {} components, fail count {}", iteration,
-                          components, fails));
-      };
-      const layout::ConnectResult c = layout::initialize_layout(lay, rules, rng, connect);
-      if (auto exceeded = rules.limits.exceeded(lay); !exceeded.empty()) {
-        std::string words;
-        for (const auto& e : exceeded) words += "\n  " + e;
-        throw InputError("", 0,
-                         "impossible limits: the model needs more bricks than allowed:" + words);
-      }
-      rep.components = c.components;
-      rep.single_connected = c.single;
-      rep.seconds.emplace_back("initialize", since(t));
-      stage(fmt::format("initialized: {} bricks, {} component{} ({} at first, {} iterations)",
-                        lay.brick_count(), c.components, c.components == 1 ? "" : "s",
-                        c.components_start, c.iterations));
-      if (!c.single) {
-        stable = false;
-        rep.bottleneck = fmt::format(
-            "no single connected layout after {} failed tries: {} pieces that no brick joins",
-            fail_max, c.components);
-      }
-      // Stability-aware refinement (Algorithm 7).
-      t = Clock::now();
-      if (c.single && !no_refine) {
-        last = Clock::now();
-        refine.progress = [&](const layout::RefineProgress& p) {
-          if (quiet || since(last) < 0.5) return;
-          last = Clock::now();
-          stage(fmt::format("refine: iteration {}, C_M {}, fail count {}, {} accepted", p.iteration,
-                            cm_words(p.cm_gf), p.fail_count, p.accepted));
-        };
-        stage("refining");
-        refined = layout::refine_layout(lay, catalog, rules, rng, refine);
-        rep.cm_gf_initial = layout::comparable_cm_gf(refined.initial);
-        rep.cm_gf_final = layout::comparable_cm_gf(refined.final);
-        rep.status_initial = physics::to_string(refined.initial.status);
-        rep.status_final = physics::to_string(refined.final.status);
-        rep.iterations = refined.iterations;
-        rep.accepted = refined.accepted;
-        rep.lp_solves = refined.lp_solves;
-        rep.rejected_by_bound = refined.rejected_by_bound;
-        stable = refined.stable;
-        stage(fmt::format(
-            "refined: C_M {} -> {}, {} iterations, {} accepted; {} whole-model analyses, {} "
-            "candidates rejected on local bounds ({:.2f} s)",
-            cm_words(rep.cm_gf_initial), cm_words(rep.cm_gf_final), refined.iterations,
-            refined.accepted, refined.lp_solves, refined.rejected_by_bound, refined.bound_seconds));
-      }
-      rep.seconds.emplace_back("refine", since(t));
-    }
-
-    // Outputs.
-    t = Clock::now();
-    layout::LayoutAssembly la = layout::to_assembly(lay, catalog, kInsideColor, refine.loads);
-    const Assembly& assembly = la.assembly;
     if (voxels_only) {
+      layout::LayoutAssembly la =
+          layout::to_assembly(layout::Layout(target), catalog, kInsideColor, refine.loads);
       rep.status_initial = rep.status_final = "not analysed (--voxels-only)";
       rep.cm_gf_initial = rep.cm_gf_final = std::numeric_limits<double>::quiet_NaN();  // null
-    } else if (no_refine || !rep.single_connected) {
-      auto s = physics::analyze_stability(assembly, refine.stability);
-      refined.final = s;
-      rep.cm_gf_initial = rep.cm_gf_final = layout::comparable_cm_gf(s);
-      rep.status_initial = rep.status_final = physics::to_string(s.status);
-      stable = stable && s.stable(min_cm);
+      rep.stable = rep.steps_stand = true;
+      rep.bricks = la.assembly.bricks.size();
+      for (const Brick& b : la.assembly.bricks) ++rep.bricks_by_part[b.type->part];
+      const std::string title = "Voxels of " + fs::path(input).stem().string();
+      const auto parts = report::count_parts(la.assembly);
+      std::vector<std::pair<fs::path, std::string>> files;
+      ldraw::WriteOptions w;
+      w.title = title;
+      w.author = "legolize";
+      files.emplace_back(output, ldraw::model_text(output, la.assembly, w));
+      if (!parts_list.empty()) files.emplace_back(parts_list, report::parts_list_csv(parts));
+      if (!bricklink.empty())
+        files.emplace_back(bricklink,
+                           report::bricklink_xml(parts, report::BrickLinkMap::standard()));
+      rep.seconds.emplace_back("total", since(start));
+      if (!report_path.empty()) files.emplace_back(report_path, report_json(rep));
+      ldraw::write_files_atomically(files);
+      std::cout << fmt::format("{}: {} voxels as 1x1 bricks, {} x {} x {} voxels\n", output,
+                               rep.bricks, grid.width, grid.height, grid.depth);
+      return 0;
     }
-    const physics::StabilityResult& final_result = refined.final;
-    auto describe = [&](int brick) {
-      if (brick == physics::kGround) return std::string("the ground");
-      const layout::LayoutBrick& b = lay.brick(la.layout_id[size_t(brick)]);
-      return fmt::format("{} {} at voxel {},{},{}", assembly.bricks[size_t(brick)].type->part,
-                         assembly.bricks[size_t(brick)].type->name, b.x, b.y, b.z);
+
+    // A scene's separate objects (layout/pieces.h): those on the ground are one piece, every
+    // other object a piece of its own, built apart.
+    std::vector<layout::Piece> pieces = layout::split_pieces(target);
+    if (pieces.size() > 1)
+      stage(fmt::format("{} pieces: {} object{} on the ground, {} not reaching it", pieces.size(),
+                        pieces.front().grounded() ? pieces.front().objects : 0,
+                        pieces.front().grounded() && pieces.front().objects == 1 ? "" : "s",
+                        pieces.size() - (pieces.front().grounded() ? 1 : 0)));
+    Random rng(seed);
+    PieceSettings settings;
+    settings.catalog = &catalog;
+    settings.rules = &rules;
+    settings.refine = refine;
+    settings.refine_layout = !no_refine;
+    settings.min_cm = min_cm;
+    settings.stage = stage;
+    settings.connect.fail_max = fail_max;
+    // Pieces standing on the ground are not floating: the stability analysis judges them.
+    settings.connect.ground_connects = settings.refine.ground_connects = true;
+    auto last = Clock::now();
+    settings.connect.progress = [&](int iteration, int components, int fails) {
+      if (quiet || since(last) < 0.5) return;
+      last = Clock::now();
+      stage(fmt::format("initialize: iteration {}, {} components, fail count {}", iteration,
+                        components, fails));
     };
-    if (!stable && rep.bottleneck.empty()) {
-      rep.bottleneck = final_result.weakest.empty()
-                           ? std::string(physics::to_string(final_result.status))
-                           : describe(final_result.weakest.front().lower) + " holding " +
-                                 describe(final_result.weakest.front().upper);
-    }
-    rep.stable = stable;
-    rep.steps_stand = true;
-    if (!voxels_only) {
-      // A building order in which every step stands (the paper's first limitation).
-      t = Clock::now();
-      layout::BuildOrderOptions order_options;
-      order_options.stability = refine.stability;
-      order_options.min_cm_gf = min_cm;
-      order_options.analyse = !no_step_analysis;
-      order_options.side_by_side = jobs > 1;
-      auto last_progress = Clock::now();
-      order_options.progress = [&](int step, int placed, double seconds) {
-        if (quiet || since(last_progress) < 0.5) return;
-        last_progress = Clock::now();
-        stage(fmt::format("build order: step {}, {} of {} bricks placed ({:.1f} s)", step, placed,
-                          la.assembly.bricks.size(), seconds));
+    settings.refine.progress = [&](const layout::RefineProgress& p) {
+      if (quiet || since(last) < 0.5) return;
+      last = Clock::now();
+      stage(fmt::format("refine: iteration {}, C_M {}, fail count {}, {} accepted", p.iteration,
+                        cm_words(p.cm_gf), p.fail_count, p.accepted));
+    };
+    settings.order.stability = refine.stability;
+    settings.order.min_cm_gf = min_cm;
+    settings.order.analyse = !no_step_analysis;
+    settings.order.side_by_side = jobs > 1;
+    std::vector<PieceResult> results;
+    for (size_t k = 0; k < pieces.size(); ++k) {
+      const layout::Piece& p = pieces[k];
+      if (pieces.size() > 1)
+        stage(fmt::format(
+            "piece {} of {}: {} voxels{}", k + 1, pieces.size(), p.voxels,
+            p.grounded() ? ", on the ground" : fmt::format(", {} layers up, built apart", p.lift)));
+      // The loads on this piece, in its own layers; --load-top weighs on the first piece.
+      settings.refine.loads = {};
+      if (k == 0) settings.refine.loads.top_grams = refine.loads.top_grams;
+      for (layout::VoxelLoad l : refine.loads.at_voxels)
+        if (l.y >= p.lift && p.target.at(l.x, l.y - p.lift, l.z) != layout::kEmpty) {
+          l.y -= p.lift;
+          settings.refine.loads.at_voxels.push_back(l);
+        }
+      settings.order.progress = [&](int step, int placed, double seconds) {
+        if (quiet || since(last) < 0.5) return;
+        last = Clock::now();
+        stage(fmt::format("build order: step {}, {} bricks placed ({:.1f} s)", step, placed,
+                          seconds));
       };
-      const layout::BuildOrder order = layout::plan_build_order(la.assembly, order_options);
-      const std::vector<int> moved = layout::apply_build_order(la.assembly, order);
-      std::vector<int> layout_id(moved.size());
-      for (size_t k = 0; k < moved.size(); ++k) layout_id[k] = la.layout_id[size_t(moved[k])];
-      la.layout_id = std::move(layout_id);
-      for (size_t k = 0; k < order.steps.size(); ++k) {
-        const layout::BuildStep& bs = order.steps[k];
-        rep.steps.push_back({int(k) + 1, bs.new_bricks, bs.bricks,
+      results.push_back(convert_piece(pieces[k], rng, settings));
+    }
+
+    // The report: the model's numbers are its pieces' together, its C_M the weakest piece's.
+    t = Clock::now();
+    rep.stable = rep.steps_stand = rep.single_connected = true;
+    rep.steps_analysed = !no_step_analysis;
+    size_t weakest = 0;
+    for (size_t k = 0; k < results.size(); ++k) {
+      const PieceResult& r = results[k];
+      const double cm = layout::comparable_cm_gf(r.refined.final);
+      if (cm < layout::comparable_cm_gf(results[weakest].refined.final)) weakest = k;
+      rep.components += r.connect.components;
+      rep.pieces_before_joining += r.pieces_before;
+      rep.voxels_added_to_join += r.voxels_added;
+      rep.single_connected = rep.single_connected && r.connect.single;
+      rep.stable = rep.stable && r.stable;
+      rep.steps_stand = rep.steps_stand && r.steps_stand;
+      rep.iterations += r.refined.iterations;
+      rep.accepted += r.refined.accepted;
+      rep.lp_solves += r.refined.lp_solves;
+      rep.rejected_by_bound += r.refined.rejected_by_bound;
+      rep.held_back += r.order.held_back;
+      rep.bricks += r.la.assembly.bricks.size();
+      for (const Brick& b : r.la.assembly.bricks) ++rep.bricks_by_part[b.type->part];
+      if (!r.stable && rep.bottleneck.empty())
+        rep.bottleneck =
+            results.size() > 1 ? fmt::format("piece {}: {}", k + 1, r.bottleneck) : r.bottleneck;
+      for (const layout::BuildStep& bs : r.order.steps)
+        rep.steps.push_back({int(rep.steps.size()) + 1, bs.new_bricks, bs.bricks,
                              bs.status == physics::StabilityStatus::Solved
                                  ? bs.cm_gf
                                  : -std::numeric_limits<double>::infinity(),
                              bs.analysed, bs.stands, bs.why});
-      }
-      rep.held_back = order.held_back;
-      rep.steps_analysed = order_options.analyse;
-      rep.steps_stand = !order_options.analyse || order.all_stand();
-      rep.seconds.emplace_back("build_order", since(t));
-      stage(order_options.analyse
-                ? fmt::format("build order: {} steps, {}; smallest step C_M {}; {} analyses, "
-                              "{:.2f} s",
-                              order.steps.size(),
-                              rep.steps_stand ? "every one stands" : "NOT every one stands",
-                              cm_words(order.min_cm_gf()), order.analyses, order.seconds)
-                : fmt::format("build order: {} steps, not analysed", order.steps.size()));
-      t = Clock::now();
+      rep.pieces.push_back(
+          {.piece = int(k) + 1,
+           .grounded = r.lift == 0,
+           .lift = r.lift,
+           .objects = r.objects,
+           .voxels = r.voxels,
+           .bricks = r.la.assembly.bricks.size(),
+           .components = r.connect.components,
+           .components_before_joining = r.pieces_before,
+           .voxels_added = r.voxels_added,
+           .cm_gf = cm,
+           .stable = r.stable,
+           .steps_stand = r.steps_stand,
+           .submodel =
+               k == 0 || !ldraw::is_mpd(output)
+                   ? std::string()
+                   : fmt::format("{}-piece-{}.ldr", fs::path(output).stem().string(), k + 1)});
     }
-    rep.bricks = assembly.bricks.size();
-    rep.components = rep.components ? rep.components : final_result.connectivity.component_count;
-    for (const Brick& b : assembly.bricks) ++rep.bricks_by_part[b.type->part];
+    const PieceResult& weak = results[weakest];
+    rep.cm_gf_initial = layout::comparable_cm_gf(weak.refined.initial);
+    rep.cm_gf_final = layout::comparable_cm_gf(weak.refined.final);
+    rep.status_initial = physics::to_string(weak.refined.initial.status);
+    rep.status_final = physics::to_string(weak.refined.final.status);
+    double seconds_initialize = 0, seconds_refine = 0, seconds_order = 0;
+    for (const PieceResult& r : results) {
+      seconds_initialize += r.seconds_initialize;
+      seconds_refine += r.seconds_refine;
+      seconds_order += r.seconds_order;
+    }
+    rep.seconds.emplace_back("initialize", seconds_initialize);
+    rep.seconds.emplace_back("refine", seconds_refine);
+    rep.seconds.emplace_back("build_order", seconds_order);
 
+    // Outputs.
     ldraw::WriteOptions w;
-    w.title = (voxels_only ? "Voxels of " : "LEGO ") + fs::path(input).stem().string();
+    w.title = "LEGO " + fs::path(input).stem().string();
     w.author = "legolize";
-    const auto parts = report::count_parts(assembly);
+    std::vector<const Assembly*> assemblies;
+    Assembly all;  // every piece's bricks, for the parts lists
+    for (const PieceResult& r : results) {
+      assemblies.push_back(&r.la.assembly);
+      all.bricks.insert(all.bricks.end(), r.la.assembly.bricks.begin(), r.la.assembly.bricks.end());
+    }
+    const auto parts = report::count_parts(all);
     // Every text is made before any file is written, and the files land all or none: a refused
     // BrickLink list (an unmapped color) or an unwritable heat map leaves nothing behind.
     std::vector<std::pair<fs::path, std::string>> files;
-    files.emplace_back(output, ldraw::model_text(output, assembly, w));
+    files.emplace_back(output, ldraw::model_text(output, assemblies, w));
     if (!parts_list.empty()) files.emplace_back(parts_list, report::parts_list_csv(parts));
     if (!bricklink.empty())
       files.emplace_back(bricklink, report::bricklink_xml(parts, report::BrickLinkMap::standard()));
@@ -456,18 +624,22 @@ int main(int argc, char** argv) {
       stage("per-brick capacity for the heat map");
       physics::StabilityOptions with_capacity = refine.stability;
       with_capacity.brick_capacity = true;
-      const auto s = physics::analyze_stability(assembly, with_capacity);
-      files.emplace_back(heatmap,
-                         report::render_heatmap(assembly, s, "Stability heat map of " + w.title,
-                                                "legolize", describe));
+      for (size_t k = 0; k < results.size(); ++k) {
+        const PieceResult& r = results[k];
+        const auto s = physics::analyze_stability(r.la.assembly, with_capacity);
+        const fs::path path = k == 0 ? fs::path(heatmap) : piece_file(heatmap, int(k) + 1);
+        if (k > 0) app::check_outputs({{"--heatmap", path.string()}}, {input, output});
+        files.emplace_back(
+            path, report::render_heatmap(
+                      r.la.assembly, s,
+                      "Stability heat map of " + w.title +
+                          (results.size() > 1 ? fmt::format(", piece {}", k + 1) : std::string()),
+                      "legolize", [&](int brick) { return describe_brick(r, brick); }));
+      }
     }
     rep.seconds.emplace_back("output", since(t));
     rep.seconds.emplace_back("total", since(start));
-    // A file name that is not UTF-8 (a Latin-1 "café.obj") is written with U+FFFD in its place.
-    if (!report_path.empty())
-      files.emplace_back(
-          report_path,
-          to_json(rep).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+    if (!report_path.empty()) files.emplace_back(report_path, report_json(rep));
     ldraw::write_files_atomically(files);
     if (!instructions.empty()) {
       // The booklet shows the file as written, read back as any LDraw tool would.
@@ -482,7 +654,7 @@ int main(int argc, char** argv) {
         }
       if (std::isfinite(rep.cm_gf_final)) booklet.cm_gf = rep.cm_gf_final;
       booklet.verdict = fmt::format("The finished model: C_M = {} ({}).", cm_words(rep.cm_gf_final),
-                                    stable ? "it stands" : "it does not stand");
+                                    rep.stable ? "it stands" : "it does not stand");
       const std::string note =
           report::write_booklet(instructions, booklet, output, default_parts_dir(), stage);
       if (!note.empty()) std::cerr << "legolize: " << note << "\n";
@@ -494,12 +666,23 @@ int main(int argc, char** argv) {
                              catalog.find(part) ? catalog.find(part)->name : part);
     std::cout << fmt::format("{}: {} bricks ({}), {} x {} x {} voxels\n", output, rep.bricks,
                              by_part, grid.width, grid.height, grid.depth);
-    if (!voxels_only)
-      std::cout << fmt::format("C_M {} -> {} ({}), {} iterations, {} accepted, {:.2f} s\n",
-                               cm_words(rep.cm_gf_initial), cm_words(rep.cm_gf_final),
-                               stable ? "stable" : "UNSTABLE", rep.iterations, rep.accepted,
-                               since(start));
-    if (!stable) std::cout << "weakest: " << rep.bottleneck << "\n";
+    if (results.size() > 1)
+      for (const auto& p : rep.pieces)
+        std::cout << fmt::format(
+            "piece {}: {} bricks, {}, C_M {}{}\n", p.piece, p.bricks,
+            p.grounded
+                ? fmt::format("on the ground ({} object{})", p.objects, p.objects == 1 ? "" : "s")
+                : fmt::format("does not reach the ground ({} layers up): built apart{}", p.lift,
+                              p.submodel.empty() ? "" : " as " + p.submodel),
+            cm_words(p.cm_gf), p.stable ? "" : ", UNSTABLE");
+    if (rep.voxels_added_to_join > 0)
+      std::cout << fmt::format("{} voxels added to join thin parts ({} parts before, {} after)\n",
+                               rep.voxels_added_to_join, rep.pieces_before_joining, rep.components);
+    std::cout << fmt::format("C_M {} -> {} ({}), {} iterations, {} accepted, {:.2f} s\n",
+                             cm_words(rep.cm_gf_initial), cm_words(rep.cm_gf_final),
+                             rep.stable ? "stable" : "UNSTABLE", rep.iterations, rep.accepted,
+                             since(start));
+    if (!rep.stable) std::cout << "weakest: " << rep.bottleneck << "\n";
     if (!rep.steps.empty() && !rep.steps_analysed) {
       std::cout << fmt::format("build steps: {}, not analysed (--no-step-analysis)\n",
                                rep.steps.size());
@@ -512,7 +695,7 @@ int main(int argc, char** argv) {
       for (const auto& st : rep.steps)
         if (!st.stands) std::cout << fmt::format("  step {} falls: {}\n", st.step, st.why);
     }
-    return stable && rep.steps_stand ? 0 : kExitUnstable;
+    return rep.stable && rep.steps_stand ? 0 : kExitUnstable;
   } catch (const InputError& e) {
     std::cerr << "legolize: " << e.what() << "\n";
     return kExitBadInput;

@@ -1,8 +1,8 @@
-#include "ldraw/case_insensitive_paths.h"
+#include "core/case_insensitive_paths.h"
 
 #include <cctype>
 
-namespace lego::ldraw {
+namespace lego {
 
 namespace fs = std::filesystem;
 
@@ -41,4 +41,20 @@ std::optional<fs::path> CaseInsensitivePaths::locate(const fs::path& dir,
   return current;
 }
 
-}  // namespace lego::ldraw
+std::optional<fs::path> CaseInsensitivePaths::find(const fs::path& path) {
+  std::error_code ec;
+  const fs::path full = fs::absolute(path, ec).lexically_normal();
+  if (ec) return std::nullopt;
+  if (fs::exists(full, ec)) return full;
+  fs::path existing = full;
+  std::string rest;
+  while (existing.has_relative_path() && !fs::exists(existing, ec)) {
+    std::string name = existing.filename().string();
+    for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
+    rest = rest.empty() ? name : name + "/" + rest;
+    existing = existing.parent_path();
+  }
+  return locate(existing, rest);
+}
+
+}  // namespace lego

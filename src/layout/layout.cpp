@@ -28,6 +28,11 @@ Layout::Layout(Target target) : target_(std::move(target)) {
       }
 }
 
+int Layout::grow(int x, int y, int z, int color) {
+  target_.set(x, y, z, color);
+  return add(LayoutBrick{.x = x, .y = y, .z = z, .color = color});
+}
+
 std::vector<int> Layout::brick_ids() const {
   std::vector<int> ids;
   ids.reserve(alive_);

@@ -63,6 +63,9 @@ class Layout {
   // Editing. Every add and remove inside begin_edit()...commit() can be undone by rollback(),
   // in time proportional to the edit: reconfigurations try a change and keep it only if better.
   int add(const LayoutBrick& brick);  // the brick must cover empty cells of the layout only
+  // Makes the empty voxel (x, y, z) part of the target, in `color`, filled by a 1x1 brick (not
+  // inside an edit): voxels added to join parts (layout/pieces.h).
+  int grow(int x, int y, int z, int color);
   void remove(int id);
   void begin_edit();
   void commit();

@@ -97,6 +97,17 @@ std::vector<std::string> Limits::exceeded(const Layout& layout) const {
   return out;
 }
 
+void Limits::use_up(const Layout& layout) {
+  for (auto& [size, limit] : by_size)
+    limit = std::max(0, limit - layout.count(size.first, size.second));
+  for (auto& [key, limit] : by_size_color) {
+    const auto [l, w, color] = key;
+    int used = layout.count(l, w, color);
+    if (color == inside_color) used += layout.count(l, w, kIgnore);
+    limit = std::max(0, limit - used);
+  }
+}
+
 void Limits::add(std::string_view spec_view, const BrickCatalog& catalog, std::string_view origin) {
   const std::string spec = trim(spec_view), where(origin);
   const auto colon = spec.rfind(':');

@@ -29,6 +29,9 @@ struct Limits {
   bool allow(const Layout& layout, const LayoutBrick& brick) const;
   // The limits the layout exceeds, in words ("1x1 in color 4: 120 used, limit 100").
   std::vector<std::string> exceeded(const Layout& layout) const;
+  // Takes off every limit what `layout` uses, so that the next layout (another piece of the same
+  // model) gets what is left.
+  void use_up(const Layout& layout);
 
   // "2x4:100", "2x8:0", "3001@14:50", "1x2@4:10": a size (either order) or an LDraw brick part
   // number, optionally @color, then the most bricks. Throws InputError naming `origin`.

@@ -103,7 +103,8 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
                        .seconds = std::chrono::duration<double>(Clock::now() - start).count()});
   };
   const int per_round = std::max(1, options.candidates_per_round);
-  const physics::OneBlasThreadEach blas_threads(per_round > 1);
+  const bool side_by_side = options.side_by_side && per_round > 1;
+  const physics::OneBlasThreadEach blas_threads(side_by_side);
   while (!(cm > options.min_cm_gf) && fails < options.fail_max && !current.critical.empty()) {
     if (std::chrono::duration<double>(Clock::now() - start).count() > options.max_seconds) {
       out.out_of_time = true;
@@ -145,7 +146,12 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
     };
     std::vector<std::thread> threads;
     for (size_t c = 1; c < round.size(); ++c)
-      if (round[c].connected) threads.emplace_back(analyse, std::ref(round[c]));
+      if (round[c].connected) {
+        if (side_by_side)
+          threads.emplace_back(analyse, std::ref(round[c]));
+        else
+          analyse(round[c]);
+      }
     if (round[0].connected) analyse(round[0]);
     for (auto& th : threads) th.join();
     for (Candidate& c : round) {

@@ -25,10 +25,11 @@ struct RefineOptions {
   bool ground_connects = false;  // for the single-component check, see analyze_components
   double max_seconds = 1e30;     // stop refining after this long (the result says so)
   // Candidates generated one after another (each counting as an iteration, with k from the fail
-  // count so far) and analysed at the same time, one thread each; the best that beats the
-  // current C_M is kept. 1 is the paper's sequential loop. The result depends on this number,
-  // never on thread timing.
+  // count so far), then analysed; the best that beats the current C_M is kept. 1 is the paper's
+  // sequential loop. The result depends on this number, never on `side_by_side` or timing.
   int candidates_per_round = 2;
+  // The round's candidates analysed at the same time, one thread each (else one after another).
+  bool side_by_side = true;
   // Before a candidate gets the whole model's analysis, an upper bound on its C_M from the
   // reconfigured bricks, those sharing a force with them and this many more rings of contacts
   // (physics/local_bounds.h): a candidate that cannot beat the current C_M is rejected on it,

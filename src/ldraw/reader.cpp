@@ -1,8 +1,8 @@
 #include "ldraw/reader.h"
 
 #include "core/brick_catalog.h"
+#include "core/case_insensitive_paths.h"
 #include "core/error.h"
-#include "ldraw/case_insensitive_paths.h"
 #include "ldraw/tokens.h"
 
 #include <fmt/format.h>

@@ -75,44 +75,88 @@ Transform brick_transform(const Brick& brick, const std::array<int, 3>& origin_l
   return t;
 }
 
-std::string to_ldr(const Assembly& assembly, const WriteOptions& options) {
-  std::string out =
-      header(options.title, options.name.empty() ? "model.ldr" : options.name, options.author);
-  auto order = options.steps ? by_step(assembly) : std::vector<size_t>{};
-  if (!options.steps)
+namespace {
+
+// The bricks of one assembly by build step, `0 STEP` after each step.
+std::string bricks_by_step(const Assembly& assembly, bool steps) {
+  std::string out;
+  auto order = steps ? by_step(assembly) : std::vector<size_t>{};
+  if (!steps)
     for (size_t i = 0; i < assembly.bricks.size(); ++i) order.push_back(i);
   for (size_t k = 0; k < order.size(); ++k) {
     const Brick& b = assembly.bricks[order[k]];
-    if (options.steps && k > 0 && assembly.bricks[order[k - 1]].source.step != b.source.step)
+    if (steps && k > 0 && assembly.bricks[order[k - 1]].source.step != b.source.step)
       out += "0 STEP\n";
     out += brick_line(b, assembly.origin_ldu);
   }
-  if (options.steps && !order.empty()) out += "0 STEP\n";
+  if (steps && !order.empty()) out += "0 STEP\n";
   return out;
 }
 
-std::string to_mpd(const Assembly& assembly, const WriteOptions& options) {
-  std::string main_name = options.name.empty() ? "model.ldr" : options.name;
-  std::string stem = std::filesystem::path(main_name).stem().string();
+std::string piece_comment(size_t k, size_t n) {
+  return fmt::format(
+      "0 // Piece {} of {}: it does not reach the ground. Build it apart, then set it in "
+      "place.\n",
+      k, n);
+}
+
+// One model of an .mpd: its file, placing a submodel per build step (and `extra` lines after
+// them), then the step submodels.
+std::string mpd_model(const Assembly& assembly, const std::string& name, const std::string& title,
+                      const std::string& author, const std::string& extra) {
+  const std::string stem = std::filesystem::path(name).stem().string();
   std::map<int, std::vector<size_t>> steps;
   for (size_t i : by_step(assembly)) steps[assembly.bricks[i].source.step].push_back(i);
-  std::string out = "0 FILE " + main_name + "\n" + header(options.title, main_name, options.author);
+  std::string out = "0 FILE " + name + "\n" + header(title, name, author);
   std::vector<std::string> names;
   int k = 0;
   for (size_t i = 0; i < steps.size(); ++i) {
     names.push_back(fmt::format("{}-step-{:03}.ldr", stem, ++k));
     out += "1 16 0 0 0 1 0 0 0 1 0 0 0 1 " + names.back() + "\n0 STEP\n";
   }
-  out += "0 NOFILE\n";
+  out += extra + "0 NOFILE\n";
   k = 0;
   for (const auto& [step, bricks] : steps) {
-    const std::string& name = names[k++];
-    out += "0 FILE " + name + "\n" +
-           header(fmt::format("{} - step {}", options.title, k), name, options.author);
+    const std::string& file = names[k++];
+    out += "0 FILE " + file + "\n" + header(fmt::format("{} - step {}", title, k), file, author);
     for (size_t i : bricks) out += brick_line(assembly.bricks[i], assembly.origin_ldu);
     out += "0 NOFILE\n";
   }
   return out;
+}
+
+}  // namespace
+
+std::string to_ldr(const Assembly& assembly, const WriteOptions& options) {
+  return to_ldr(std::vector<const Assembly*>{&assembly}, options);
+}
+
+std::string to_ldr(const std::vector<const Assembly*>& pieces, const WriteOptions& options) {
+  std::string out =
+      header(options.title, options.name.empty() ? "model.ldr" : options.name, options.author);
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    if (k > 0) out += piece_comment(k + 1, pieces.size());
+    out += bricks_by_step(*pieces[k], options.steps);
+  }
+  return out;
+}
+
+std::string to_mpd(const Assembly& assembly, const WriteOptions& options) {
+  return to_mpd(std::vector<const Assembly*>{&assembly}, options);
+}
+
+std::string to_mpd(const std::vector<const Assembly*>& pieces, const WriteOptions& options) {
+  const std::string main_name = options.name.empty() ? "model.ldr" : options.name;
+  const std::string stem = std::filesystem::path(main_name).stem().string();
+  std::string extra, rest;
+  for (size_t k = 1; k < pieces.size(); ++k) {
+    const std::string name = fmt::format("{}-piece-{}.ldr", stem, k + 1);
+    extra +=
+        piece_comment(k + 1, pieces.size()) + "1 16 0 0 0 1 0 0 0 1 0 0 0 1 " + name + "\n0 STEP\n";
+    rest += mpd_model(*pieces[k], name, fmt::format("{} - piece {}", options.title, k + 1),
+                      options.author, "");
+  }
+  return mpd_model(*pieces.front(), main_name, options.title, options.author, extra) + rest;
 }
 
 namespace {
@@ -121,14 +165,6 @@ std::filesystem::path temporary_for(const std::filesystem::path& path) {
   auto tmp = path;
   tmp += ".tmp-legolization";
   return tmp;
-}
-
-// Whether `path` names an .mpd (any case).
-bool is_mpd(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return ext == ".mpd";
 }
 
 void write_temporary(const std::filesystem::path& path, const std::string& text) {
@@ -249,6 +285,16 @@ void write_files_atomically(
     const Destination d = destination_of(path);
     (d.direct ? direct : files).emplace_back(d.path, text);
   }
+  // Two texts for one file would share one temporary, and the second rename would fail after
+  // the first landed: refused before anything is written.
+  for (size_t i = 0; i < given.size(); ++i)
+    for (size_t k = 0; k < i; ++k) {
+      auto resolved = [&](const std::filesystem::path& p) {
+        return std::filesystem::weakly_canonical(std::filesystem::absolute(p, ec), ec);
+      };
+      if (resolved(given[i].first) == resolved(given[k].first))
+        throw InputError(given[i].first.string(), 0, "two outputs name this one file");
+    }
   std::vector<std::filesystem::path> temporaries;
   for (const auto& f : files) temporaries.push_back(temporary_for(f.first));
   const PendingTemporaries pending(temporaries);
@@ -279,10 +325,22 @@ void write_files_atomically(
   }
 }
 
+bool is_mpd(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext == ".mpd";
+}
+
 std::string model_text(const std::filesystem::path& path, const Assembly& assembly,
                        WriteOptions options) {
+  return model_text(path, std::vector<const Assembly*>{&assembly}, std::move(options));
+}
+
+std::string model_text(const std::filesystem::path& path,
+                       const std::vector<const Assembly*>& pieces, WriteOptions options) {
   if (options.name.empty()) options.name = path.filename().string();
-  return is_mpd(path) ? to_mpd(assembly, options) : to_ldr(assembly, options);
+  return is_mpd(path) ? to_mpd(pieces, options) : to_ldr(pieces, options);
 }
 
 void write_model(const std::filesystem::path& path, const Assembly& assembly,

@@ -35,9 +35,21 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
 void write_files_atomically(
     const std::vector<std::pair<std::filesystem::path, std::string>>& files);
 
+// A model in pieces: the first stands on the ground, each other one is built apart and set in
+// place (a scene's object that does not reach the ground). In an .mpd each other piece is a
+// submodel "<name>-piece-<k>.ldr" with its own build steps, placed in one step of the main model
+// after the first piece's; in an .ldr its bricks follow as further steps, after a comment that
+// says so. Bricks are where their assembly's origin puts them.
+std::string to_ldr(const std::vector<const Assembly*>& pieces, const WriteOptions& options);
+std::string to_mpd(const std::vector<const Assembly*>& pieces, const WriteOptions& options);
+
+// Whether `path` names an .mpd (any case).
+bool is_mpd(const std::filesystem::path& path);
 // to_ldr or to_mpd by the extension of `path`; the name defaults to its file name.
 std::string model_text(const std::filesystem::path& path, const Assembly& assembly,
                        WriteOptions options);
+std::string model_text(const std::filesystem::path& path,
+                       const std::vector<const Assembly*>& pieces, WriteOptions options);
 // model_text, written atomically.
 void write_model(const std::filesystem::path& path, const Assembly& assembly, WriteOptions options);
 

@@ -1,38 +1,61 @@
 #include "mesh/mesh.h"
 
+#include <assimp/config.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
 #include <algorithm>
 #include <assimp/Importer.hpp>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <optional>
 #include <system_error>
 
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "core/case_insensitive_paths.h"
 #include "core/error.h"
 #include "mesh/image.h"
 
 namespace lego::mesh {
 namespace {
 
+// The rotation that turns `up` to +y (a rotation, never a mirror: det +1).
 Vec3 to_y_up(const aiVector3D& p, UpAxis up) {
-  switch (up) {
-    case UpAxis::X:
-      return {-p.y, p.x, p.z};
-    case UpAxis::Z:
-      return {p.x, p.z, -p.y};
-    case UpAxis::Y:
-      break;
+  if (up.axis == 0) return up.sign > 0 ? Vec3{-p.y, p.x, p.z} : Vec3{p.y, -p.x, p.z};
+  if (up.axis == 2) return up.sign > 0 ? Vec3{p.x, p.z, -p.y} : Vec3{p.x, -p.z, p.y};
+  return up.sign > 0 ? Vec3{p.x, p.y, p.z} : Vec3{p.x, -p.y, -p.z};
+}
+
+std::string lower(std::string text) {
+  for (char& c : text) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+
+// The up axis the file declares, or its format's convention, with the reason in words. Collada's
+// up_axis is applied by Assimp itself (when --up is not given), so what Assimp returns is +y.
+std::pair<UpAxis, std::string> declared_up(const aiScene* scene,
+                                           const std::filesystem::path& path) {
+  const std::string ext = lower(path.extension().string());
+  int32_t axis = -1, sign = 1;
+  if (scene->mMetaData && scene->mMetaData->Get("UpAxis", axis) && axis >= 0 && axis <= 2) {
+    scene->mMetaData->Get("UpAxisSign", sign);
+    const UpAxis up{int(axis), sign < 0 ? -1 : 1};
+    return {up, fmt::format("{} (the file's GlobalSettings)", to_string(up))};
   }
-  return {p.x, p.y, p.z};
+  if (ext == ".dae") return {{1, 1}, "+y (the file's up_axis, applied by Assimp)"};
+  for (const char* z_up : {".3mf", ".amf", ".blend", ".3ds", ".max"})
+    if (ext == z_up) return {{2, 1}, fmt::format("+z (the {} format's up)", ext.substr(1))};
+  for (const char* y_up : {".gltf", ".glb", ".x3d", ".wrl", ".x3dv"})
+    if (ext == y_up) return {{1, 1}, fmt::format("+y (the {} format's up)", ext.substr(1))};
+  return {{1, 1}, "+y (the file declares no up axis; --up names another)"};
 }
 
 Rgb material_color(const aiMaterial* m, const Rgb& fallback) {
@@ -48,9 +71,53 @@ Rgb material_color(const aiMaterial* m, const Rgb& fallback) {
   return fallback;
 }
 
-// The diffuse or base color map of a material, loaded once per path; -1 when there is none.
+// Where a texture a material names is on disk, as DCC tools and LDraw users expect to find it:
+// Windows separators and drive letters, any case, absolute or relative to the mesh's folder, a
+// root-relative "\\..\\maps\\x.jpg" taken as relative, and at last the file name alone in the
+// mesh's folder or below it. `looked` lists what was tried, for the warning.
+std::optional<std::filesystem::path> find_texture(const std::string& name,
+                                                  const std::filesystem::path& dir,
+                                                  CaseInsensitivePaths& paths,
+                                                  std::vector<std::string>& looked) {
+  namespace fs = std::filesystem;
+  std::string file = name;
+  std::replace(file.begin(), file.end(), '\\', '/');
+  if (lower(file).rfind("file://", 0) == 0) file = file.substr(7);
+  const bool drive =
+      file.size() >= 2 && std::isalpha(static_cast<unsigned char>(file[0])) && file[1] == ':';
+  if (drive) file = file.substr(2);
+  std::vector<fs::path> candidates;
+  std::string relative = file;
+  while (!relative.empty() && relative.front() == '/') relative.erase(0, 1);
+  if (!file.empty() && file.front() == '/') candidates.push_back(file);
+  if (!relative.empty()) candidates.push_back(dir / relative);
+  const fs::path leaf = fs::path(relative).filename();
+  if (!leaf.empty()) candidates.push_back(dir / leaf);
+  for (const fs::path& c : candidates) {
+    looked.push_back(c.lexically_normal().string());
+    std::error_code ec;
+    if (auto found = paths.find(c); found && fs::is_regular_file(*found, ec)) return found;
+  }
+  if (leaf.empty()) return std::nullopt;
+  // The file name alone, anywhere below the mesh's folder (a "textures" or "maps" folder).
+  const std::string wanted = lower(leaf.string());
+  std::error_code ec;
+  int seen = 0;
+  for (fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec),
+       end;
+       !ec && it != end && seen < 10000; it.increment(ec), ++seen) {
+    if (it.depth() >= 3) it.disable_recursion_pending();
+    if (lower(it->path().filename().string()) == wanted && it->is_regular_file(ec))
+      return it->path();
+  }
+  looked.push_back(dir.string() + "/**/" + leaf.string());
+  return std::nullopt;
+}
+
+// The diffuse or base color map of a material, loaded once per name; -1 when there is none or
+// it cannot be read (then a warning names it and the material colour stays in charge).
 int material_texture(const aiScene* scene, const aiMaterial* m, const std::filesystem::path& dir,
-                     Mesh& out, std::map<std::string, int>& loaded) {
+                     Mesh& out, std::map<std::string, int>& loaded, CaseInsensitivePaths& paths) {
   aiString name;
   if (!m || (m->GetTexture(aiTextureType_BASE_COLOR, 0, &name) != AI_SUCCESS &&
              m->GetTexture(aiTextureType_DIFFUSE, 0, &name) != AI_SUCCESS))
@@ -61,8 +128,9 @@ int material_texture(const aiScene* scene, const aiMaterial* m, const std::files
   std::string why;
   if (const aiTexture* embedded = scene->GetEmbeddedTexture(name.C_Str())) {
     if (embedded->mHeight == 0) {  // compressed (PNG, JPEG...): mWidth is its size in bytes
-      decode_image(reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth, t,
-                   why);
+      if (!decode_image(reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth,
+                        t, why))
+        why = "the embedded image cannot be decoded: " + why;
     } else {
       t.width = int(embedded->mWidth);
       t.height = int(embedded->mHeight);
@@ -71,20 +139,48 @@ int material_texture(const aiScene* scene, const aiMaterial* m, const std::files
                      {embedded->pcData[i].r, embedded->pcData[i].g, embedded->pcData[i].b});
     }
   } else {
-    std::string file = key;
-    std::replace(file.begin(), file.end(), '\\', '/');
-    load_image(dir / file, t, why);
+    std::vector<std::string> looked;
+    if (auto found = find_texture(key, dir, paths, looked)) {
+      if (!load_image(*found, t, why)) why = found->string() + " cannot be decoded: " + why;
+    } else {
+      std::string list;
+      for (const auto& l : looked) list += (list.empty() ? "" : ", ") + l;
+      why = "not found (looked for " + list + ")";
+    }
   }
   int index = -1;
   if (t.width > 0) {
     index = int(out.textures.size());
     out.textures.push_back(std::move(t));
+  } else {
+    aiString material;
+    m->Get(AI_MATKEY_NAME, material);
+    out.warnings.push_back(fmt::format(
+        "texture '{}' of material '{}': {}; its surfaces take the material's colour instead", key,
+        material.C_Str(), why.empty() ? "empty image" : why));
   }
-  loaded[key] = index;  // a texture that cannot be read leaves the material color in charge
+  loaded[key] = index;
   return index;
 }
 
 }  // namespace
+
+std::optional<UpAxis> parse_up_axis(const std::string& text) {
+  std::string t = lower(text);
+  int sign = 1;
+  if (!t.empty() && (t[0] == '-' || t[0] == '+')) {
+    sign = t[0] == '-' ? -1 : 1;
+    t.erase(0, 1);
+  }
+  if (t == "x") return UpAxis{0, sign};
+  if (t == "y") return UpAxis{1, sign};
+  if (t == "z") return UpAxis{2, sign};
+  return std::nullopt;
+}
+
+std::string to_string(UpAxis up) {
+  return std::string(up.sign < 0 ? "-" : "+") + "xyz"[up.axis];
+}
 
 Rgb Texture::sample(float u, float v) const {
   // Texture v runs upwards, image rows downwards; repeat outside [0, 1].
@@ -171,6 +267,8 @@ namespace {
 
 Mesh read_mesh(const std::filesystem::path& path, const MeshOptions& options) {
   Assimp::Importer importer;
+  // An --up names an axis of the file as written: Assimp must not turn a Collada file first.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, options.up.has_value());
   // PreTransformVertices bakes every node's transform into its meshes: one frame for all.
   const aiScene* scene =
       importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices |
@@ -180,16 +278,25 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshOptions& options) {
                      fmt::format("the mesh cannot be read: {}", importer.GetErrorString()));
   Mesh out;
   out.source = path.string();
+  UpAxis up;
+  if (options.up) {
+    up = *options.up;
+    out.up = to_string(up) + " (--up)";
+  } else {
+    std::tie(up, out.up) = declared_up(scene, path);
+  }
   std::map<std::string, int> loaded;
+  CaseInsensitivePaths paths;
   for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
     const aiMesh* m = scene->mMeshes[mi];
     const aiMaterial* material = scene->mMaterials[m->mMaterialIndex];
     const Rgb base = material_color(material, options.default_color);
     const bool vertex_colors = m->HasVertexColors(0);
     // Most specific first: a texture through UVs, then vertex colors, then the material's.
-    const int texture = m->HasTextureCoords(0)
-                            ? material_texture(scene, material, path.parent_path(), out, loaded)
-                            : -1;
+    const int texture =
+        m->HasTextureCoords(0)
+            ? material_texture(scene, material, path.parent_path(), out, loaded, paths)
+            : -1;
     for (unsigned fi = 0; fi < m->mNumFaces; ++fi) {
       const aiFace& f = m->mFaces[fi];
       if (f.mNumIndices != 3) continue;  // points and lines carry no surface
@@ -198,7 +305,7 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshOptions& options) {
       for (int k = 0; k < 3; ++k) {
         const unsigned vi = f.mIndices[k];
         if (texture >= 0) t.uv[k] = {m->mTextureCoords[0][vi].x, m->mTextureCoords[0][vi].y};
-        t.v[k] = to_y_up(m->mVertices[vi], options.up);
+        t.v[k] = to_y_up(m->mVertices[vi], up);
         if (!std::isfinite(t.v[k].x) || !std::isfinite(t.v[k].y) || !std::isfinite(t.v[k].z))
           throw InputError(path.string(), 0, "the mesh has a vertex with a non-finite coordinate");
         if (vertex_colors) {

@@ -34,17 +34,31 @@ struct Mesh {
   std::vector<Texture> textures;
   Vec3 min, max;  // bounding box
   std::string source;
+  std::string up;  // which way was taken as up, and why: "+z (the 3MF format's up)"
+  // What was read but not used, in words a user can act on: "texture '..\earth.jpg' of
+  // material 'globe' not found (looked for ...)". Empty when everything was used.
+  std::vector<std::string> warnings;
 
   // The color at barycentric coordinates (b0, b1, b2) of a triangle: its texture through the
   // UVs, else its corner colors interpolated.
   Rgb color_at(const Triangle& t, double b0, double b1, double b2) const;
 };
 
-enum class UpAxis { X, Y, Z };
+// An axis of the file's own coordinates, as written in it, and its direction.
+struct UpAxis {
+  int axis = 1;  // 0 x, 1 y, 2 z
+  int sign = 1;  // +1 or -1
+};
+// "x", "-x", "+y", ... ; nullopt for anything else.
+std::optional<UpAxis> parse_up_axis(const std::string& text);
+std::string to_string(UpAxis up);  // "+y", "-z"
 
 struct MeshOptions {
-  UpAxis up = UpAxis::Y;  // which axis of the file points up; the mesh comes back y-up
-  Rgb default_color;      // where the file has no color
+  // Which axis of the file points up (the mesh comes back y-up). nullopt: the file's own
+  // declaration where it has one (Collada's up_axis, FBX's GlobalSettings) or its format's fixed
+  // convention (3MF, AMF, Blender, 3DS: +z; glTF, X3D, VRML: +y), else +y.
+  std::optional<UpAxis> up;
+  Rgb default_color;  // where the file has no color
   // The file is read first in a child process with this time limit (0: not at all), so that a
   // reader that crashes or hangs on a malformed file (Assimp does, on some) ends in an error
   // naming the file instead of taking the process down.

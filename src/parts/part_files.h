@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "ldraw/case_insensitive_paths.h"
+#include "core/case_insensitive_paths.h"
 
 namespace lego::parts {
 
@@ -41,7 +41,7 @@ class LibraryFiles {
 
  private:
   std::vector<std::filesystem::path> dirs_;
-  ldraw::CaseInsensitivePaths paths_;
+  CaseInsensitivePaths paths_;
   std::unordered_map<std::string, std::unique_ptr<std::string>> texts_;  // by key
   std::unordered_map<std::string, std::optional<std::string>> found_;    // reference -> key
 };

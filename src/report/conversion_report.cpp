@@ -16,7 +16,10 @@ nlohmann::json to_json(const ConversionReport& r) {
   nlohmann::json j;
   j["input"] = r.input;
   j["output"] = r.output;
+  j["up"] = r.up;
+  j["warnings"] = r.warnings;
   j["voxels"] = r.voxels;
+  j["inside_voxels_coloured"] = r.inside_voxels_coloured;
   j["voxels_filled"] = r.voxels_filled;
   j["bricks"] = r.bricks;
   j["bricks_by_part"] = r.bricks_by_part;
@@ -53,6 +56,25 @@ nlohmann::json to_json(const ConversionReport& r) {
   j["min_step_cm_gf"] =
       r.steps.empty() || !r.steps_analysed ? nlohmann::json(nullptr) : number_or_null(smallest);
   j["held_back"] = r.held_back;
+  nlohmann::json pieces = nlohmann::json::array();
+  for (const PieceReport& p : r.pieces)
+    pieces.push_back(
+        {{"piece", p.piece},
+         {"grounded", p.grounded},
+         {"lift_layers", p.lift},
+         {"objects", p.objects},
+         {"voxels", p.voxels},
+         {"bricks", p.bricks},
+         {"components", p.components},
+         {"components_before_joining", p.components_before_joining},
+         {"voxels_added", p.voxels_added},
+         {"cm_gf", number_or_null(p.cm_gf)},
+         {"stable", p.stable},
+         {"steps_stand", p.steps_stand},
+         {"submodel", p.submodel.empty() ? nlohmann::json(nullptr) : nlohmann::json(p.submodel)}});
+  j["pieces"] = pieces;
+  j["pieces_before_joining"] = r.pieces_before_joining;
+  j["voxels_added_to_join"] = r.voxels_added_to_join;
   j["seed"] = r.seed;
   j["version"] = r.version;
   return j;

@@ -22,8 +22,28 @@ struct StepReport {
   std::string why;  // when it does not stand
 };
 
+// One piece of the model (layout/pieces.h).
+struct PieceReport {
+  int piece = 1;
+  bool grounded = true;  // false: built apart (a submodel in an .mpd)
+  int lift = 0;          // layers above the ground it is set at
+  int objects = 1;       // separate objects of the mesh in it
+  size_t voxels = 0, bricks = 0;
+  int components = 1, components_before_joining = 1;
+  size_t voxels_added = 0;  // to join thin parts
+  double cm_gf = 0;         // -inf (JSON null) when there is no equilibrium
+  bool stable = false, steps_stand = false;
+  std::string submodel;  // its file in the .mpd; empty for the first piece and in an .ldr
+};
+
 struct ConversionReport {
   std::string input, output;
+  std::string up;                     // which way was up, and why
+  std::vector<std::string> warnings;  // what the mesh named but could not be used
+  size_t inside_voxels_coloured = 0;  // inside voxels a hole lays open, given surface colours
+  std::vector<PieceReport> pieces;
+  int pieces_before_joining = 0;  // components after the first layout, all pieces together
+  size_t voxels_added_to_join = 0;
   std::array<int, 3> voxels{0, 0, 0};  // W, H, D
   size_t voxels_filled = 0;
   size_t bricks = 0;

@@ -41,8 +41,11 @@ Lab to_lab(const mesh::Rgb& c) {
   return {116 * f(y) - 16, 500 * (f(x) - f(y)), 200 * (f(y) - f(z))};
 }
 
-// CIEDE2000 (Sharma, Wu, Dalal 2005), with kL = kC = kH = 1.
-double ciede2000(const Lab& p, const Lab& q) {
+namespace {
+
+// CIEDE2000 (Sharma, Wu, Dalal 2005), with kL = kC = kH = 1; `rotation`: with its blue-region
+// rotation term R_T.
+double ciede2000(const Lab& p, const Lab& q, bool rotation) {
   const double c1 = std::hypot(p.a, p.b), c2 = std::hypot(q.a, q.b), cm = (c1 + c2) / 2;
   const double g = 0.5 * (1 - std::sqrt(std::pow(cm, 7) / (std::pow(cm, 7) + std::pow(25.0, 7))));
   const double a1 = (1 + g) * p.a, a2 = (1 + g) * q.a;
@@ -76,7 +79,17 @@ double ciede2000(const Lab& p, const Lab& q) {
   const double rt = -2 * std::sqrt(std::pow(cmp, 7) / (std::pow(cmp, 7) + std::pow(25.0, 7))) *
                     std::sin(rad(60 * std::exp(-std::pow((hm - 275) / 25, 2))));
   const double x = dl / sl, y = dc / sc, z = dH / sh;
-  return std::sqrt(x * x + y * y + z * z + rt * y * z);
+  return std::sqrt(x * x + y * y + z * z + (rotation ? rt * y * z : 0.0));
+}
+
+}  // namespace
+
+double ciede2000(const Lab& x, const Lab& y) {
+  return ciede2000(x, y, true);
+}
+
+double match_distance(const Lab& x, const Lab& y) {
+  return ciede2000(x, y, false);
 }
 
 Palette Palette::of(const std::vector<int>& codes, const ldraw::ColorTable& table) {
@@ -90,6 +103,28 @@ Palette Palette::of(const std::vector<int>& codes, const ldraw::ColorTable& tabl
   }
   if (p.codes_.empty()) throw InputError("", 0, "the palette has no colour");
   return p;
+}
+
+const std::vector<int>& Palette::current_codes() {
+  static const std::vector<int> codes = {
+      15, 0,   71,  72, 4,  320, 1,   272, 73, 212, 321, 322, 2,  288, 10, 27, 326, 330, 14, 226,
+      25, 191, 484, 19, 28, 70,  308, 78,  84, 92,  5,   26,  29, 30,  31, 3,  323, 378, 379};
+  return codes;
+}
+
+Palette Palette::current(const ldraw::ColorTable& table) {
+  return of(current_codes(), table);
+}
+
+bool Palette::contains(int code) const {
+  return std::find(codes_.begin(), codes_.end(), code) != codes_.end();
+}
+
+Palette Palette::with(int code, const ldraw::ColorTable& table) const {
+  if (contains(code)) return *this;
+  std::vector<int> codes = codes_;
+  codes.push_back(code);
+  return of(codes, table);
 }
 
 Palette Palette::paper(const ldraw::ColorTable& table) {
@@ -109,7 +144,7 @@ int Palette::nearest(const mesh::Rgb& srgb) const {
   double best = std::numeric_limits<double>::infinity();
   int code = codes_.front();
   for (size_t i = 0; i < codes_.size(); ++i)
-    if (double d = ciede2000(lab, lab_[i]); d < best) best = d, code = codes_[i];
+    if (double d = match_distance(lab, lab_[i]); d < best) best = d, code = codes_[i];
   return code;
 }
 

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/lattice.h"
+#include "voxel/visibility.h"
 
 namespace lego::voxel {
 namespace {
@@ -241,6 +242,46 @@ void hollow(VoxelGrid& g, int shell) {
   for (size_t id = 0; id < g.cells.size(); ++id)
     if (g.cells[id] == Cell::Inside && (depth[id] < 0 || depth[id] >= shell))
       g.cells[id] = Cell::Empty;
+}
+
+size_t colour_seen_inside(VoxelGrid& g) {
+  const auto filled = [&](size_t i) { return g.cells[i] != Cell::Empty; };
+  std::vector<size_t> seen;
+  for (size_t i : seen_from_outside(g.width, g.height, g.depth, filled))
+    if (g.cells[i] == Cell::Inside) seen.push_back(i);
+  if (seen.empty()) return 0;
+  // The nearest Surface voxel through filled voxels: a breadth-first search from all of them.
+  std::vector<int> source(g.cells.size(), -1);
+  std::deque<size_t> queue;
+  for (size_t i = 0; i < g.cells.size(); ++i)
+    if (g.cells[i] == Cell::Surface) {
+      source[i] = int(i);
+      queue.push_back(i);
+    }
+  static constexpr int kSteps[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                       {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+  while (!queue.empty()) {
+    const size_t i = queue.front();
+    queue.pop_front();
+    const int x = int(i % size_t(g.width)), z = int((i / size_t(g.width)) % size_t(g.depth)),
+              y = int(i / (size_t(g.width) * g.depth));
+    for (const auto& s : kSteps) {
+      const int nx = x + s[0], ny = y + s[1], nz = z + s[2];
+      if (g.at(nx, ny, nz) != Cell::Inside) continue;
+      const size_t n = g.index(nx, ny, nz);
+      if (source[n] >= 0) continue;
+      source[n] = source[i];
+      queue.push_back(n);
+    }
+  }
+  size_t coloured = 0;
+  for (size_t i : seen) {
+    if (source[i] < 0) continue;  // an inside without any surface: cannot happen, kept safe
+    g.cells[i] = Cell::Surface;
+    g.color[i] = g.color[size_t(source[i])];
+    ++coloured;
+  }
+  return coloured;
 }
 
 }  // namespace lego::voxel

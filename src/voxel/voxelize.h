@@ -25,4 +25,9 @@ VoxelGrid voxelize(const mesh::Mesh& mesh, const VoxelizeOptions& options);
 // layer): deeper Inside voxels become Empty. shell <= 0 keeps the model solid.
 void hollow(VoxelGrid& grid, int shell);
 
+// Inside voxels that can be seen from outside (a mesh with a hole or a non-manifold seam leaves
+// its inside open there) become Surface voxels with the colour of the nearest Surface voxel, so
+// that the inside colour (IGNORE) never shows. Returns how many were coloured.
+size_t colour_seen_inside(VoxelGrid& grid);
+
 }  // namespace lego::voxel

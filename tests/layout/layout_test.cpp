@@ -7,6 +7,8 @@
 #include <set>
 
 #include "core/error.h"
+#include "layout/components.h"
+#include "layout/pieces.h"
 #include "layout/reconfigure.h"
 #include "layout/targets.h"
 #include "layout/to_assembly.h"
@@ -304,6 +306,83 @@ TEST(Layout, SeparateObjectsEndInNoSolution) {
   EXPECT_EQ(r.iterations, options.fail_max);  // gave up after fail_MAX tries, never accepted
   EXPECT_EQ(calls, r.iterations);
   expect_exact(l);
+}
+
+TEST(Layout, AFloatingBrickCountsWhateverItsIdWithTheGroundJoining) {
+  // A brick high above a column, made first (id 0) by a layout of its own voxel order: with the
+  // ground joining what stands on it, the floating brick is still its own component (it was
+  // once left out when it was the first brick not on the ground).
+  Target t(3, 4, 1);
+  t.set(0, 0, 0, 4);
+  t.set(0, 1, 0, 4);
+  t.set(2, 3, 0, 4);
+  Layout l(t);
+  // Ids follow the voxel order (y, z, x), so the floating brick comes last; freed ids are
+  // reused last-freed first, so remove it and then the column, and add it back first.
+  const int floating = l.brick_at(2, 3, 0), low = l.brick_at(0, 0, 0), high = l.brick_at(0, 1, 0);
+  l.remove(floating);
+  l.remove(high);
+  l.remove(low);
+  l.add(LayoutBrick{.x = 2, .y = 3, .z = 0, .color = 4});
+  l.add(LayoutBrick{.x = 0, .y = 0, .z = 0, .color = 4});
+  l.add(LayoutBrick{.x = 0, .y = 1, .z = 0, .color = 4});
+  ASSERT_LT(l.brick_at(2, 3, 0), l.brick_at(0, 0, 0));
+  Random rng(1);
+  const ComponentAnalysis c = analyze_components(l, rng, true);
+  EXPECT_EQ(c.count, 2);
+  EXPECT_NE(c.component[size_t(l.brick_at(2, 3, 0))], -1);
+  EXPECT_NE(c.component[size_t(l.brick_at(2, 3, 0))], c.component[size_t(l.brick_at(0, 0, 0))]);
+}
+
+TEST(Layout, ScenesSplitIntoPiecesAndThinSpansAreJoined) {
+  // Two towers on the ground and a block floating above the gap between them.
+  Target t(12, 10, 2);
+  for (int y = 0; y < 4; ++y)
+    for (int z = 0; z < 2; ++z) {
+      t.set(0, y, z, 4);
+      t.set(11, y, z, 1);
+    }
+  for (int y = 7; y < 9; ++y)
+    for (int x = 4; x < 8; ++x)
+      for (int z = 0; z < 2; ++z) t.set(x, y, z, 14);
+  const std::vector<Piece> pieces = split_pieces(t);
+  ASSERT_EQ(pieces.size(), 2u);
+  EXPECT_TRUE(pieces[0].grounded());
+  EXPECT_EQ(pieces[0].objects, 2);
+  EXPECT_EQ(pieces[0].voxels, 16u);
+  EXPECT_EQ(pieces[1].lift, 7);
+  EXPECT_EQ(pieces[1].objects, 1);
+  EXPECT_EQ(pieces[1].target.height, 3);
+  EXPECT_EQ(pieces[1].target.at(4, 0, 0), 14);  // lowered to stand on its own bottom
+  EXPECT_EQ(pieces[1].target.filled(), 16u);
+
+  // Two towers joined at the top by a one-voxel beam 18 long, one layer thick: no brick is that
+  // long, so some part of the beam hangs between bricks and only added voxels join it.
+  Target span(26, 6, 1);
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 4; ++x) {
+      span.set(x, y, 0, 4);
+      span.set(25 - x, y, 0, 4);
+    }
+  for (int x = 4; x < 22; ++x) span.set(x, 5, 0, 4);
+  ConnectOptions options;
+  options.ground_connects = true;
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    SCOPED_TRACE(seed);
+    Random rng(seed);
+    const JoinedLayout j = initialize_joined(span, {}, rng, options);
+    EXPECT_GT(j.pieces_before, 1);
+    EXPECT_TRUE(j.connect.single);
+    EXPECT_GT(j.voxels_added, 0u);
+    EXPECT_EQ(j.layout->target().filled(), span.filled() + j.voxels_added);
+    expect_exact(*j.layout);
+    // The added voxels are below the beam (the grid has no layer above it), in its colour.
+    for (int x = 0; x < 26; ++x) {
+      if (span.at(x, 4, 0) == kEmpty && j.layout->target().at(x, 4, 0) != kEmpty) {
+        EXPECT_EQ(j.layout->target().at(x, 4, 0), 4);
+      }
+    }
+  }
 }
 
 TEST(Layout, FewUnitBricksOnAHollowedSphere) {

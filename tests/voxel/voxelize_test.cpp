@@ -6,8 +6,10 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 
+#include "core/brick_catalog.h"
 #include "core/error.h"
 #include "mesh/mesh.h"
 #include "voxel/palette.h"
@@ -229,7 +231,7 @@ TEST(Mesh, ReadsStlAndPlyWithVertexColours) {
   EXPECT_NEAR(m.triangles[0].color[0].r, 1.0, 1e-6);
   EXPECT_NEAR(m.triangles[0].color[0].g, 0.0, 1e-6);
   // z up in the file: the mesh comes back y up.
-  auto z_up = mesh::load_mesh(ply, {.up = mesh::UpAxis::Z, .default_color = {}});
+  auto z_up = mesh::load_mesh(ply, {.up = mesh::UpAxis{2, 1}, .default_color = {}});
   EXPECT_NEAR(z_up.triangles[0].v[2].z, -1.0, 1e-9);
 }
 
@@ -285,6 +287,64 @@ TEST(Palette, NearestLDrawColours) {
             14);  // only what it has: the lighter one
   EXPECT_THROW(Palette::of({4, 9999}, table), InputError);
   EXPECT_GT(Palette::all(table).codes().size(), 30u);
+}
+
+}  // namespace
+}  // namespace lego::voxel
+
+namespace lego::voxel {
+namespace {
+
+// Colours a mesh really has, to the colour a builder would pick (issue 18: navy oceans came out
+// black and skin orange with the paper's eight).
+TEST(Palette, CurrentColoursKeepNavyBlueAndSkinSkin) {
+  const auto& table = ldraw::ColorTable::standard();
+  const mesh::Rgb navy{0.0f, 0.0f, 0.5f}, ocean{0.05f, 0.12f, 0.35f}, skin{1.0f, 0.8f, 0.65f},
+      grey{0.6f, 0.6f, 0.6f};
+  const Palette current = Palette::current(table);
+  EXPECT_TRUE(current.nearest(navy) == 272 || current.nearest(navy) == 1) << current.nearest(navy);
+  EXPECT_EQ(current.nearest(ocean), 272);
+  EXPECT_EQ(current.nearest(skin), 78);  // Light Nougat
+  EXPECT_EQ(current.nearest(grey), 71);  // Light Bluish Grey
+  const mesh::Rgb light_grey{0.8f, 0.8f, 0.8f}, dark_grey{0.3f, 0.3f, 0.3f};
+  EXPECT_TRUE(current.nearest(light_grey) == 15 || current.nearest(light_grey) == 71);
+  EXPECT_EQ(current.nearest(dark_grey), 72);
+  EXPECT_EQ(current.nearest({0.35f, 0.02f, 0.02f}), 320);  // Dark Red
+  EXPECT_EQ(current.nearest({0.05f, 0.2f, 0.05f}), 288);   // Dark Green
+  EXPECT_EQ(current.nearest({0.85f, 0.75f, 0.55f}), 19);   // Tan
+  EXPECT_EQ(current.nearest({1.0f, 0.6f, 0.7f}), 29);      // Bright Pink
+  EXPECT_EQ(current.nearest({0.0f, 0.45f, 0.45f}), 3);     // Dark Turquoise
+  const Palette paper = Palette::paper(table);
+  EXPECT_EQ(paper.nearest(navy), 1) << "navy with only the paper's eight is still blue";
+  EXPECT_EQ(paper.nearest(grey), 15) << "grey without a grey is white, never orange";
+}
+
+TEST(Palette, CurrentColoursAreInProductionAndOnBrickLink) {
+  const auto& table = ldraw::ColorTable::standard();
+  const std::vector<int>& codes = Palette::current_codes();
+  for (int retired : {6, 7, 8, 11, 13, 22})
+    EXPECT_EQ(std::count(codes.begin(), codes.end(), retired), 0) << retired;
+  for (int wanted : {70, 71, 72, 19, 1, 272, 28})
+    EXPECT_EQ(std::count(codes.begin(), codes.end(), wanted), 1) << wanted;
+  std::ifstream csv(default_parts_dir() / "bricklink.csv");
+  ASSERT_TRUE(csv) << "ldraw_parts/bricklink.csv";
+  std::map<int, int> bricklink;
+  for (std::string line; std::getline(csv, line);)
+    if (line.rfind("color,", 0) == 0) {
+      const int ldraw = std::stoi(line.substr(6));
+      bricklink[ldraw] = std::stoi(line.substr(line.find(',', 6) + 1));
+    }
+  for (int code : codes) {
+    EXPECT_TRUE(table.find(code)) << code;
+    EXPECT_TRUE(bricklink.count(code)) << "LDraw " << code << " has no BrickLink colour";
+  }
+  // Spot checks against BrickLink's colour guide.
+  EXPECT_EQ(bricklink[70], 88);   // Reddish Brown
+  EXPECT_EQ(bricklink[71], 86);   // Light Bluish Gray
+  EXPECT_EQ(bricklink[272], 63);  // Dark Blue
+  EXPECT_EQ(bricklink[78], 90);   // Light Nougat
+  EXPECT_EQ(Palette::paper(table).with(71, table).codes().size(), 9u);
+  EXPECT_EQ(Palette::current(table).with(71, table).codes().size(), codes.size());
 }
 
 }  // namespace

@@ -18,12 +18,14 @@
 #include <map>
 
 #include "layout/build_order.h"
+#include "layout/pieces.h"
 #include "layout/reconfigure.h"
 #include "layout/refine.h"
 #include "mesh/mesh.h"
 #include "report/audit.h"
 #include "shapes.h"
 #include "voxel/palette.h"
+#include "voxel/visibility.h"
 #include "voxel/voxelize.h"
 
 using namespace lego;
@@ -316,6 +318,88 @@ void steps_section(const std::vector<std::pair<std::string, layout::Target>>& ta
   }
 }
 
+// legolize's fidelity on real meshes (issue 18), per mesh at one height: the share of visible
+// voxels whose brick colour is within CIEDE2000 10 of the surface colour (current palette, and
+// the paper's eight for comparison), the pieces (objects off the ground built apart), the
+// layout's parts before and after joining thin parts with the voxels added, and inside (IGNORE)
+// voxels seen from outside before colour_seen_inside and in the finished layout (target 0).
+void meshes_section(const std::vector<std::pair<std::string, fs::path>>& files, int height) {
+  fmt::print("\nmeshes at {} bricks high: colour fidelity, pieces, joining, IGNORE seen\n", height);
+  fmt::print("{:<22} {:>7} {:>8} {:>7} {:>7} {:>6} {:>13} {:>6} {:>11} {:>10} {:>8} {:>6}\n",
+             "input", "voxels", "visible", "de10", "de10_pp", "pieces", "parts_bef_aft", "added",
+             "ignore_seen", "ignore_now", "warnings", "secs");
+  const auto& table = ldraw::ColorTable::standard();
+  for (const auto& [name, file] : files) {
+    if (!fs::exists(file)) continue;
+    const auto t = Clock::now();
+    const mesh::Mesh m = mesh::load_mesh(
+        file, {.up = {}, .default_color = voxel::from_hex(*table.rgb(71)), .guard_seconds = 0});
+    voxel::VoxelGrid grid = voxel::voxelize(m, {.height_bricks = height});
+    voxel::hollow(grid, 3);
+    auto seen_inside = [&](const voxel::VoxelGrid& g) {
+      size_t n = 0;
+      for (size_t i : voxel::seen_from_outside(g.width, g.height, g.depth, [&](size_t c) {
+             return g.cells[c] != voxel::Cell::Empty;
+           }))
+        n += g.cells[i] == voxel::Cell::Inside;
+      return n;
+    };
+    const size_t ignore_before = seen_inside(grid);
+    voxel::colour_seen_inside(grid);
+    const voxel::Palette current = voxel::Palette::current(table).with(71, table);
+    const voxel::Palette paper = voxel::Palette::paper(table).with(71, table);
+    const std::vector<size_t> visible =
+        voxel::seen_from_outside(grid.width, grid.height, grid.depth,
+                                 [&](size_t c) { return grid.cells[c] != voxel::Cell::Empty; });
+    // The layout in the current palette: its bricks' colours at the visible voxels.
+    const layout::Target target = layout::target_from_voxels(grid, current);
+    std::vector<layout::Piece> pieces = layout::split_pieces(target);
+    std::vector<int> brick_color(target.color.size(), layout::kEmpty);
+    int before = 0, after = 0;
+    size_t added = 0;
+    Random rng(1);
+    for (layout::Piece& p : pieces) {
+      layout::ConnectOptions connect;
+      connect.ground_connects = true;
+      const int lift = p.lift;
+      layout::JoinedLayout j =
+          layout::initialize_joined(std::move(p.target), layout::MergeRules{}, rng, connect);
+      before += j.pieces_before;
+      after += j.connect.components;
+      added += j.voxels_added;
+      const layout::Layout& lay = *j.layout;
+      for (size_t i = 0; i < target.color.size(); ++i) {
+        const int x = int(i % size_t(target.width)),
+                  y = int(i / (size_t(target.width) * target.depth)),
+                  z = int((i / size_t(target.width)) % size_t(target.depth));
+        if (y < lift) continue;
+        if (const int b = lay.brick_at(x, y - lift, z); b >= 0 && target.color[i] != layout::kEmpty)
+          brick_color[i] = lay.brick(b).color;
+      }
+    }
+    size_t close = 0, close_paper = 0, ignore_now = 0;
+    for (size_t i : visible) {
+      const voxel::Lab surface = voxel::to_lab(grid.color[i]);
+      const int c = brick_color[i];
+      if (c == layout::kIgnore) ++ignore_now;
+      const int code = c == layout::kIgnore ? 72 : c;
+      if (code >= 0 &&
+          voxel::ciede2000(surface, voxel::to_lab(voxel::from_hex(*table.rgb(code)))) <= 10)
+        ++close;
+      const int best_paper = paper.nearest(grid.color[i]);
+      if (voxel::ciede2000(surface, voxel::to_lab(voxel::from_hex(*table.rgb(best_paper)))) <= 10)
+        ++close_paper;
+    }
+    const double n = double(std::max<size_t>(visible.size(), 1));
+    fmt::print(
+        "{:<22} {:>7} {:>8} {:>6.1f}% {:>6.1f}% {:>6} {:>13} {:>6} {:>11} {:>10} {:>8} {:>6.1f}\n",
+        name, target.filled(), visible.size(), 100.0 * close / n, 100.0 * close_paper / n,
+        pieces.size(), fmt::format("{} -> {}", before, after), added, ignore_before, ignore_now,
+        m.warnings.size(), seconds_since(t));
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -407,6 +491,26 @@ int main(int argc, char** argv) {
     if (!quick) add("steps-spider-h20", assimp / "OBJ" / "spider.obj", {.height_bricks = 20});
     add("steps-human-h20", assimp / "BLEND" / "HUMAN.blend", {.height_bricks = 20});
     steps_section(targets, loads);
+  }
+  if (wanted("meshes")) {
+    const fs::path assimp = "/usr/share/assimp/models";
+    std::vector<std::pair<std::string, fs::path>> files{
+        {"sample-globe", source / "samples" / "globe.ply"},
+        {"sample-crate", source / "samples" / "crate.obj"},
+        {"bunny", bunny},
+        {"earth", assimp / "Collada" / "earthCylindrical.DAE"},
+        {"teapots", assimp / "Collada" / "teapots.DAE"},
+        {"duck", assimp / "Collada" / "duck.dae"},
+        {"spider", assimp / "OBJ" / "spider.obj"},
+        {"human", assimp / "BLEND" / "HUMAN.blend"},
+        {"box-gltf-textured", assimp / "glTF2" / "BoxTextured-glTF" / "BoxTextured.gltf"},
+        {"cubes-fbx", assimp / "FBX" / "cubes_with_names.fbx"},
+        {"engine-glb", assimp / "glTF2" / "2CylinderEngine-glTF-Binary" / "2CylinderEngine.glb"},
+        {"wuson-stl", assimp / "STL" / "Wuson.stl"},
+        {"sphere-hole-stl", assimp / "STL" / "sphereWithHole.stl"},
+        {"fels-3ds", assimp / "3DS" / "fels.3ds"},
+    };
+    meshes_section(files, quick ? 16 : 24);
   }
   if (wanted("corpus")) corpus_section(source / ".." / "shared", 60);
 }
