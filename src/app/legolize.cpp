@@ -41,7 +41,7 @@ namespace {
 
 constexpr int kInsideColor = 72;  // Dark Bluish Grey: voxels whose color does not matter (IGNORE)
 constexpr int kUncolouredColor = 71;  // Light Bluish Grey: surfaces the mesh gives no colour
-constexpr int kExitUnstable = 1, kExitBadInput = 2;
+constexpr int kExitUnstable = 1, kExitBadInput = 2, kExitUndecided = 4;
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) {
@@ -87,6 +87,15 @@ layout::VoxelLoad parse_load(const std::string& spec) {
 
 std::string cm_words(double cm_gf) {
   return std::isfinite(cm_gf) ? fmt::format("{:.3f} gf", cm_gf) : std::string("no equilibrium");
+}
+
+// The verdict of an analysis in the words brickcheck uses: its C_M, "no equilibrium", or
+// UNDECIDED when the solver gave up.
+std::string analysis_words(const physics::StabilityResult& r) {
+  if (!physics::decided(r.status))
+    return fmt::format("UNDECIDED (the solver gave up: {})",
+                       r.message.empty() ? physics::to_string(r.status) : r.message);
+  return cm_words(layout::comparable_cm_gf(r));
 }
 
 std::string report_json(const report::ConversionReport& rep) {
@@ -176,10 +185,9 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
     s.stage(fmt::format(
         "refined: C_M {} -> {}, {} iterations, {} accepted; {} whole-model analyses, {} "
         "candidates rejected on local bounds ({:.2f} s)",
-        cm_words(layout::comparable_cm_gf(out.refined.initial)),
-        cm_words(layout::comparable_cm_gf(out.refined.final)), out.refined.iterations,
-        out.refined.accepted, out.refined.lp_solves, out.refined.rejected_by_bound,
-        out.refined.bound_seconds));
+        analysis_words(out.refined.initial), analysis_words(out.refined.final),
+        out.refined.iterations, out.refined.accepted, out.refined.lp_solves,
+        out.refined.rejected_by_bound, out.refined.bound_seconds));
   }
   out.seconds_refine = since(t);
   out.la = layout::to_assembly(lay, *s.catalog, s.refine.inside_color, s.refine.loads);
@@ -358,7 +366,8 @@ int main(int argc, char** argv) {
   app.footer(
       "Exit codes: 0 written, stable, and every build step stands; 1 written, but unstable, not "
       "one connected piece, or a build step falls (the report and summary say where); 2 usage "
-      "error or bad input (nothing is written).");
+      "error or bad input (nothing is written); 4 written, but the stability solver gave up "
+      "(UNDECIDED, as brickcheck says).");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -588,6 +597,11 @@ int main(int argc, char** argv) {
                    : fmt::format("{}-piece-{}.ldr", fs::path(output).stem().string(), k + 1)});
     }
     const PieceResult& weak = results[weakest];
+    rep.decided = true;
+    for (const PieceResult& r : results)
+      rep.decided = rep.decided && physics::decided(r.refined.final.status);
+    rep.solver_final = weak.refined.final.stats.solver;
+    rep.solver_note_final = weak.refined.final.message;
     rep.cm_gf_initial = layout::comparable_cm_gf(weak.refined.initial);
     rep.cm_gf_final = layout::comparable_cm_gf(weak.refined.final);
     rep.status_initial = physics::to_string(weak.refined.initial.status);
@@ -679,9 +693,14 @@ int main(int argc, char** argv) {
       std::cout << fmt::format("{} voxels added to join thin parts ({} parts before, {} after)\n",
                                rep.voxels_added_to_join, rep.pieces_before_joining, rep.components);
     std::cout << fmt::format("C_M {} -> {} ({}), {} iterations, {} accepted, {:.2f} s\n",
-                             cm_words(rep.cm_gf_initial), cm_words(rep.cm_gf_final),
-                             rep.stable ? "stable" : "UNSTABLE", rep.iterations, rep.accepted,
-                             since(start));
+                             analysis_words(weak.refined.initial),
+                             analysis_words(weak.refined.final),
+                             rep.stable    ? "stable"
+                             : rep.decided ? "UNSTABLE"
+                                           : "UNDECIDED",
+                             rep.iterations, rep.accepted, since(start));
+    if (!rep.solver_note_final.empty())
+      std::cout << fmt::format("solver: {} ({})\n", rep.solver_final, rep.solver_note_final);
     if (!rep.stable) std::cout << "weakest: " << rep.bottleneck << "\n";
     if (!rep.steps.empty() && !rep.steps_analysed) {
       std::cout << fmt::format("build steps: {}, not analysed (--no-step-analysis)\n",
@@ -695,7 +714,12 @@ int main(int argc, char** argv) {
       for (const auto& st : rep.steps)
         if (!st.stands) std::cout << fmt::format("  step {} falls: {}\n", st.step, st.why);
     }
-    return rep.stable && rep.steps_stand ? 0 : kExitUnstable;
+    if (rep.stable && rep.steps_stand) return 0;
+    // As brickcheck ranks them: a piece that falls before a piece the solver could not decide.
+    bool falls = !rep.steps_stand;
+    for (const PieceResult& r : results)
+      falls = falls || (physics::decided(r.refined.final.status) && !r.stable);
+    return falls || rep.decided ? kExitUnstable : kExitUndecided;
   } catch (const InputError& e) {
     std::cerr << "legolize: " << e.what() << "\n";
     return kExitBadInput;

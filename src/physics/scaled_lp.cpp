@@ -98,6 +98,22 @@ IpmOptions scale_objective_options() {
   return options;
 }
 
+const char* method_name(LpMethod method) {
+  switch (method) {
+    case LpMethod::InteriorPoint:
+      return "interior point";
+    case LpMethod::DualSimplex:
+      return "Clp dual simplex";
+    case LpMethod::PrimalSimplex:
+      return "Clp primal simplex";
+    case LpMethod::Barrier:
+      return "Clp barrier";
+    case LpMethod::BarrierNoCrossover:
+      return "Clp barrier without crossover";
+  }
+  return "?";
+}
+
 // How much a box the answer touches is widened: ten times at a time. Widened a thousand times at
 // once, the corpus's buildings (supports of a few hundred times a knob's friction in loops of
 // contacts) were solved again in a box our method stalled in, then by Clp's simplex in seconds.
@@ -129,11 +145,13 @@ LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
   const bool interior = o.method == LpMethod::InteriorPoint || o.method == LpMethod::Barrier ||
                         o.method == LpMethod::BarrierNoCrossover;
   LpSolution s = attempt(o.method, interior ? o.support_bound : kInfinity);
+  if (stats) stats->solver = method_name(o.method);
   if (simplex_fallback && o.method == LpMethod::InteriorPoint && s.outcome != LpOutcome::Optimal) {
     // Exact all the same: Clp's dual simplex takes over, and the result says so. (Starting
     // Clp's primal simplex from the interior point method's best point was slower still on the
     // corpus models where it fails.)
     message = s.message + "; solved by Clp's dual simplex instead";
+    if (stats) stats->solver = "Clp dual simplex after the interior point method";
     s = attempt(LpMethod::DualSimplex, kInfinity);
   } else if (s.outcome == LpOutcome::Optimal && message.empty()) {
     message = s.message;  // how our method got there, when it did not reach its tolerance

@@ -29,6 +29,8 @@ LpData scaled_lp(const EquilibriumSystem& sys, double support_bound);
 // converge.
 LpSolution solve_interior(const LpData& lp, const IpmOptions& options = {});
 
+const char* method_name(LpMethod method);  // "interior point", "Clp dual simplex", ...
+
 // Options of our interior point method for an LP whose objective is −w, w the scale of the
 // scaled form: the duality gap is judged by what it does to C_M = T·(1 − 1/w).
 IpmOptions scale_objective_options();

@@ -205,6 +205,10 @@ const char* to_string(StabilityStatus status) {
   return "?";
 }
 
+bool decided(StabilityStatus status) {
+  return status != StabilityStatus::IterationLimit && status != StabilityStatus::NumericalTrouble;
+}
+
 StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) {
   StabilityResult r;
   auto start = std::chrono::steady_clock::now();

@@ -18,6 +18,9 @@ enum class StabilityStatus {
   NumericalTrouble,  // the solver failed; no number is given
 };
 const char* to_string(StabilityStatus status);
+// Whether the analysis reached a verdict: false when the solver gave up (iteration limit or
+// numerical trouble). Both tools call that state UNDECIDED (exit 4).
+bool decided(StabilityStatus status);
 
 // How the LP of PHYSICS.md is posed to Clp (docs/stability-lp.md has the measurements).
 enum class LpForm {
@@ -53,6 +56,9 @@ struct WeakContact {
 struct LpStats {
   int rows = 0, columns = 0, nonzeros = 0;
   int iterations = 0;
+  // Which solver gave the answer: "interior point", "Clp dual simplex", or "Clp dual simplex
+  // after the interior point method" when ours failed and Clp took over (`message` says why).
+  std::string solver;
   double graph_seconds = 0, build_seconds = 0, solve_seconds = 0, capacity_seconds = 0;
 };
 

@@ -30,6 +30,11 @@ nlohmann::json to_json(const ConversionReport& r) {
   j["cm_gf_final"] = number_or_null(r.cm_gf_final);
   j["status_initial"] = r.status_initial;
   j["status_final"] = r.status_final;
+  j["decided"] = r.decided;
+  j["solver_final"] =
+      r.solver_final.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.solver_final);
+  j["solver_note_final"] =
+      r.solver_note_final.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.solver_note_final);
   j["stable"] = r.stable;
   j["iterations"] = r.iterations;
   j["accepted"] = r.accepted;

@@ -53,6 +53,8 @@ struct ConversionReport {
   double min_cm_gf = 0;
   double cm_gf_initial = 0, cm_gf_final = 0;  // -inf (JSON null) when there is no equilibrium
   std::string status_initial, status_final;
+  bool decided = true;  // false: the solver gave up on some piece (UNDECIDED, exit 4)
+  std::string solver_final, solver_note_final;  // which solver gave the final C_M, and why
   bool stable = false;
   int iterations = 0, accepted = 0, lp_solves = 0;
   // Candidates rejected on a local upper bound, without a whole-model analysis.

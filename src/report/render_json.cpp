@@ -135,7 +135,12 @@ json render_json(const Audit& a, const AuditOptions& options) {
     j["first_failing_step"] = a.first_failing_step ? json(*a.first_failing_step) : json(nullptr);
     j["unchecked_from_step"] = a.unchecked_from_step ? json(*a.unchecked_from_step) : json(nullptr);
   }
-  j["lp"] = {{"rows", r.stats.rows}, {"columns", r.stats.columns}, {"nonzeros", r.stats.nonzeros}};
+  j["lp"] = {{"rows", r.stats.rows},
+             {"columns", r.stats.columns},
+             {"nonzeros", r.stats.nonzeros},
+             {"iterations", r.stats.iterations},
+             {"solver", r.stats.solver.empty() ? json(nullptr) : json(r.stats.solver)},
+             {"solver_note", r.message.empty() ? json(nullptr) : json(r.message)}};
   j["timing"] = {{"parse", a.parse_seconds},
                  {"parts", a.parts_seconds},
                  {"graph", r.stats.graph_seconds},

@@ -150,7 +150,7 @@ std::string render_text(const Audit& a, bool quiet) {
                        describe_brick(a, w.upper)));
     }
     if (!shown) line("  no contact needs friction: the model stands on its normal forces alone");
-    if (!r.message.empty()) line("  solver: " + r.message);
+    if (!r.message.empty()) line("  solver: " + r.stats.solver + " (" + r.message + ")");
   }
   if (!a.steps.empty()) {
     line("  build steps:");

@@ -70,6 +70,9 @@ TEST(Brickcheck, JsonSchemaFields) {
   EXPECT_EQ(j["ground"], "baseplate");
   EXPECT_EQ(j["components"], 1);
   EXPECT_NEAR(j["cm_newton"].get<double>(), j["cm_gf"].get<double>() * 9.8e-3, 1e-9);
+  EXPECT_EQ(j["lp"]["solver"], "interior point");  // and which one gave C_M, with a note if Clp
+  EXPECT_TRUE(j["lp"]["solver_note"].is_null());
+  EXPECT_GT(j["lp"]["iterations"].get<int>(), 0);
   for (const char* key : {"file", "line", "part", "color"})
     EXPECT_TRUE(j["weakest"][0]["b"].contains(key)) << key;
   EXPECT_FALSE(j.contains("steps"));

@@ -35,6 +35,23 @@ TEST(Stability, SingleCantileverOfPhysicsMd) {
   }
 }
 
+TEST(Stability, TheResultNamesItsSolver) {
+  // Which solver gave the answer is part of the result (issue 17: a fallback was silent).
+  Assembly a;
+  add(a, "3622", 0, 0, 0);
+  add(a, "3008", 0, kBrick, 0);
+  const auto ipm = analyze_stability(a);
+  EXPECT_EQ(ipm.stats.solver, "interior point");
+  EXPECT_TRUE(ipm.message.empty()) << ipm.message;
+  const auto clp = analyze_stability(a, {.method = LpMethod::DualSimplex});
+  EXPECT_EQ(clp.stats.solver, "Clp dual simplex");
+  EXPECT_NEAR(clp.cm_gf(), ipm.cm_gf(), 1e-6 * ipm.cm_gf());
+  EXPECT_TRUE(decided(StabilityStatus::Solved));
+  EXPECT_TRUE(decided(StabilityStatus::NoEquilibrium));
+  EXPECT_FALSE(decided(StabilityStatus::IterationLimit));
+  EXPECT_FALSE(decided(StabilityStatus::NumericalTrouble));
+}
+
 TEST(Stability, Figure7Bridges) {
   double previous[2] = {1e9, 1e9};
   double cm[2][13];
