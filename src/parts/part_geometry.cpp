@@ -57,6 +57,22 @@ void for_each_line(std::string_view text, F&& f) {
 
 }  // namespace
 
+double geometry_extent(const PartGeometry& g) {
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  auto take = [&](const Vec3& p) {
+    for (size_t a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], p[a]);
+      hi[a] = std::max(hi[a], p[a]);
+    }
+  };
+  for (const Triangle& t : g.faces)
+    for (const Vec3& p : t.p) take(p);
+  for (const Connector& s : g.studs) take(s.at);
+  double extent = 0;
+  for (size_t a = 0; a < 3; ++a) extent = std::max(extent, hi[a] - lo[a]);
+  return extent;
+}
+
 bool is_stud_primitive(std::string_view b) {
   if (!b.starts_with("stud") || b.starts_with("stud3") || b.starts_with("stud4") ||
       b.starts_with("stud2s") || b.starts_with("stud12") || b.starts_with("stud16") ||
@@ -69,12 +85,17 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
                                                            const FileFinder& find,
                                                            std::string& why) {
   if (auto it = done_.find(file.key); it != done_.end()) return it->second;
+  if (auto it = failed_.find(file.key); it != failed_.end()) {
+    why = it->second;
+    return nullptr;
+  }
   if (std::find(stack_.begin(), stack_.end(), file.key) != stack_.end()) {
     why = "its files refer to each other in a loop";
     return nullptr;
   }
   if (stack_.size() >= 32) {
     why = "its files are nested more than 32 deep";
+    depth_failure_ = true;  // depends on where the file was reached from: not remembered
     return nullptr;
   }
   stack_.push_back(file.key);
@@ -153,6 +174,12 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
       failed = true;
       return;
     }
+    if (g->studs.size() + size_t(g->angled_studs) + sub->studs.size() + size_t(sub->angled_studs) >
+        kMaxStuds) {
+      why = "it has more than 100,000 studs";
+      failed = true;
+      return;
+    }
     for (const Triangle& tri : sub->faces)
       g->faces.push_back(
           {{transformed(t, tri.p[0]), transformed(t, tri.p[1]), transformed(t, tri.p[2])}});
@@ -175,14 +202,23 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
       g->studs.push_back({transformed(t, s.at), direction});
     }
     g->angled_studs += sub->angled_studs;
+    // Names, not occurrences: a missing file placed 20 times over 7 levels is one name.
     for (const auto& m : sub->missing) g->missing.push_back(m);
+    std::sort(g->missing.begin(), g->missing.end());
+    g->missing.erase(std::unique(g->missing.begin(), g->missing.end()), g->missing.end());
     if (!moved_to.empty() && references == 1) {  // a moved part is its target
       g->title = sub->title;
       g->category = sub->category;
     }
   });
   stack_.pop_back();
-  if (failed) return nullptr;
+  if (failed) {
+    if (!depth_failure_) failed_[file.key] = why;
+    if (stack_.empty()) depth_failure_ = false;
+    return nullptr;
+  }
+  std::sort(g->missing.begin(), g->missing.end());
+  g->missing.erase(std::unique(g->missing.begin(), g->missing.end()), g->missing.end());
   if (g->category.empty()) {
     std::string_view title = g->title;
     while (!title.empty() && (title.front() == '~' || title.front() == '_' || title.front() == '='))

@@ -17,6 +17,8 @@
 namespace lego::parts {
 
 inline constexpr size_t kMaxFaces = 2'000'000;
+// Studs a part may have (straight and angled): a 48 x 48 baseplate has 2,304.
+inline constexpr size_t kMaxStuds = 100'000;
 
 struct Triangle {
   std::array<Vec3, 3> p;
@@ -28,7 +30,7 @@ struct PartGeometry {
   int angled_studs = 0;              // stud primitives at other angles
   std::string title;                 // the file's first line, "~Moved to" followed
   std::string category;              // !CATEGORY, or the title's first word
-  std::vector<std::string> missing;  // subfiles not found
+  std::vector<std::string> missing;  // subfiles not found, each name once, sorted
 };
 
 // Finds the file behind a reference made inside a part; nullopt with `why` when there is none.
@@ -39,14 +41,22 @@ using FileFinder =
 class GeometryCache {
  public:
   // The geometry of the file, or nullptr with `why` (nested too deeply, a reference loop, more
-  // than kMaxFaces faces).
+  // than kMaxFaces faces or kMaxStuds studs). A failure is remembered too (but for the nesting
+  // limit, which depends on the way in): a part placing the failing file 20 times fails once.
   std::shared_ptr<const PartGeometry> flatten(const PartFile& file, const FileFinder& find,
                                               std::string& why);
 
  private:
   std::unordered_map<std::string, std::shared_ptr<const PartGeometry>> done_;
+  std::unordered_map<std::string, std::string> failed_;  // file key -> why
+  bool depth_failure_ = false;  // the failure on its way up is the nesting limit
   std::vector<std::string> stack_;
 };
+
+// A part may be at most this many LDU across (1,000 studs); part_library.cpp leaves out larger.
+inline constexpr double kMaxPartExtentLdu = 20'000;
+// The largest extent of the geometry's faces and studs along x, y or z, in LDU (0 when empty).
+double geometry_extent(const PartGeometry& geometry);
 
 // Whether a primitive's file name (no folder) is a stud: stud.dat, stud2.dat, stud10.dat ...
 // but not the underside tubes and pins (stud3*, stud4*, stud12, stud16, stud18*, stud2s*).

@@ -1,6 +1,10 @@
 #include "parts/part_library.h"
 
+#include <fmt/format.h>
+
 #include <chrono>
+
+#include "core/lattice.h"
 
 namespace lego::parts {
 namespace {
@@ -27,6 +31,16 @@ const PartKnowledge* PartLibrary::derive(
   const auto start = std::chrono::steady_clock::now();
   auto geometry = cache.flatten(file, find, why);
   const PartKnowledge* out = nullptr;
+  if (geometry) {
+    // A part larger than any made (the largest baseplates are 48 studs across) would make the
+    // contact search walk its area cell by cell: 1e6 LDU across is 1e10 cells.
+    const double extent = geometry_extent(*geometry);
+    if (extent > kMaxPartExtentLdu) {
+      why = fmt::format("its file draws it {:.3g} studs across, more than the {:.0f} a part may be",
+                        extent / kLduPerStud, kMaxPartExtentLdu / kLduPerStud);
+      geometry = nullptr;
+    }
+  }
   if (!geometry) {
     failed_[file.key] = why;
   } else {

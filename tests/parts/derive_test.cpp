@@ -160,5 +160,65 @@ TEST(DerivePart, FanOutIsBoundedAndReferencesStayInTheLibrary) {
   EXPECT_EQ(escape.type.shape.body.size(), 1u);
 }
 
+// The fan-out again, through a subfile that is missing and through studs: neither faces nor a
+// missing name may multiply (each level placed 20 copies of the list of missing names below it,
+// 20^7 strings), and a part larger than any made is left out by the library (issue 19).
+TEST(DerivePart, FanOutThroughMissingFilesAndStudsAndGiantPartsAreBounded) {
+  const fs::path library = test::scratch("lego_parts_", "fanout_missing");
+  fs::create_directories(library / "parts");
+  fs::create_directories(library / "p");
+  std::ofstream(library / "p" / "studs0.dat") << "0 Studs\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 stud.dat\n";
+  std::string missing = "nowhere.dat", studs = "studs0.dat";
+  for (int level = 0; level < 7; ++level) {
+    const std::string m = "m" + std::to_string(level) + ".dat";
+    const std::string st = "s" + std::to_string(level) + ".dat";
+    std::ofstream out_m(library / "p" / m), out_s(library / "p" / st);
+    out_m << "0 Missing fan " << level << "\n";
+    out_s << "0 Stud fan " << level << "\n";
+    for (int k = 0; k < 20; ++k) {
+      out_m << "1 16 " << k << " 0 0 1 0 0 0 1 0 0 0 1 " << missing << "\n";
+      out_s << "1 16 " << 20 * k << " 0 0 1 0 0 0 1 0 0 0 1 " << studs << "\n";
+    }
+    missing = m;
+    studs = st;
+  }
+  std::ofstream(library / "parts" / "fanm.dat")
+      << "0 Fan of missing files\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 " << missing
+      << "\n4 16 0 0 0 20 0 0 20 0 20 0 0 20\n";
+  std::ofstream(library / "parts" / "fans.dat")
+      << "0 Fan of studs\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 " << studs << "\n";
+  LibraryFiles files({library});
+  GeometryCache cache;
+  const FileFinder find = [&](std::string_view reference, std::string& w) {
+    return files.find(reference, w);
+  };
+  std::string why;
+  auto fanm = cache.flatten(*files.find("fanm.dat", why), find, why);
+  ASSERT_TRUE(fanm) << why;
+  EXPECT_EQ(fanm->missing, std::vector<std::string>{"nowhere.dat"});  // one name, once
+  EXPECT_EQ(fanm->faces.size(), 2u);
+  why.clear();
+  EXPECT_FALSE(cache.flatten(*files.find("fans.dat", why), find, why));  // 20^7 studs
+  EXPECT_NE(why.find("100,000 studs"), std::string::npos) << why;
+
+  // A quad 2,000,000 LDU across (100,000 studs), then one of 1,000 studs: the library leaves out
+  // the first with its size, and derives the second.
+  std::ofstream(library / "parts" / "giant.dat")
+      << "0 Giant\n4 16 -1e6 0 -1e6 1e6 0 -1e6 1e6 0 1e6 -1e6 0 1e6\n";
+  std::ofstream(library / "parts" / "large.dat")
+      << "0 Large\n4 16 -1e4 0 -1e4 1e4 0 -1e4 1e4 0 1e4 -1e4 0 1e4\n";
+  PartLibrary parts({library}, BrickCatalog::standard());
+  ldraw::Model model;
+  ldraw::PlacedPart giant;
+  giant.part = "giant";
+  giant.definition = library / "parts" / "giant.dat";
+  EXPECT_EQ(parts.knowledge(giant, model, why), nullptr);
+  EXPECT_NE(why.find("studs across, more than the 1000 a part may be"), std::string::npos) << why;
+  ldraw::PlacedPart large = giant;
+  large.part = "large";
+  large.definition = library / "parts" / "large.dat";
+  EXPECT_NE(parts.knowledge(large, model, why), nullptr) << why;
+}
+
 }  // namespace
 }  // namespace lego::parts
