@@ -165,7 +165,7 @@ VoxelGrid voxelize(const mesh::Mesh& m, const VoxelizeOptions& o) {
   const int size[3] = {g.width, g.height, g.depth};
   for (int a = 0; a < 3; ++a) {
     const int b = (a + 1) % 3, c = (a + 2) % 3;
-    std::vector<std::vector<double>> hits(size_t(size[b]) * size[c]);
+    std::vector<std::vector<double>> hits(static_cast<size_t>(size[b]) * size[c]);
     for (const auto& t : m.triangles) {
       const std::array<V, 3> tri = {to_grid(t.v[0]), to_grid(t.v[1]), to_grid(t.v[2])};
       const double area = (tri[1][b] - tri[0][b]) * (tri[2][c] - tri[0][c]) -

@@ -317,6 +317,26 @@ TEST(Brickcheck, HeatMapIsAnLDrawFileColouredByCapacity) {
   EXPECT_EQ(run_tool("brickcheck", {"--heatmap", input.string(), input.string()}).exit_code, 2);
 }
 
+TEST(Brickcheck, TheHeatMapIsTheSameWhateverTheThreads) {
+  // Same input, same bytes (issue 19: the colours changed with the BLAS's and OpenMP's threads).
+  for (const fs::path& model :
+       {test::data_dir() / "arch-keystone.ldr", bridge('b', 4), bridge('a', 3)}) {
+    SCOPED_TRACE(model.string());
+    std::string maps[2];
+    for (int k = 0; k < 2; ++k) {
+      const fs::path out = scratch("heat-" + std::to_string(k) + ".ldr");
+      const std::string threads = k == 0 ? "1" : "2";
+      auto r = run_tool("brickcheck", {"--heatmap", out.string(), model.string()},
+                        "OPENBLAS_NUM_THREADS=" + threads + " OMP_NUM_THREADS=" + threads);
+      ASSERT_NE(r.exit_code, 2) << r.err;
+      std::ifstream in(out);
+      maps[k].assign(std::istreambuf_iterator<char>(in), {});
+      ASSERT_FALSE(maps[k].empty());
+    }
+    EXPECT_EQ(maps[0], maps[1]);
+  }
+}
+
 TEST(Brickcheck, HeatColourScale) {
   const double t = 71.658 * 9.8;
   EXPECT_EQ(report::heat_color(-5), 4);
