@@ -297,10 +297,20 @@ class CaseInsensitiveFinder {
   CaseInsensitivePaths paths_;
 };
 
+// The largest Datsville model is a few MB; a file of this size is not a model anyone builds.
+constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t(512) << 20;
+
 std::optional<std::string> read_bytes(const fs::path& path, std::string& error) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
     error = "is a directory, not an LDraw file";
+    return std::nullopt;
+  }
+  // A device would be read until it ends, /dev/zero never; a pipe (`<(git show ...)`, /dev/stdin)
+  // is read, but no further than a file may be long.
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::is_character_file(status) || fs::is_block_file(status) || fs::is_socket(status)) {
+    error = "is a device, not an LDraw file";
     return std::nullopt;
   }
   std::ifstream in(path, std::ios::binary);
@@ -308,13 +318,20 @@ std::optional<std::string> read_bytes(const fs::path& path, std::string& error) 
     error = "cannot open file";
     return std::nullopt;
   }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
+  std::string text;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    text.append(chunk, size_t(in.gcount()));
+    if (text.size() > kMaxFileBytes) {
+      error = fmt::format("is more than the {} MB an LDraw file may be", kMaxFileBytes >> 20);
+      return std::nullopt;
+    }
+  }
   if (in.bad()) {
     error = "cannot read file";
     return std::nullopt;
   }
-  return buffer.str();
+  return text;
 }
 
 class Flattener {

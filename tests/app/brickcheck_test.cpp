@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <chrono>
 #include <filesystem>
@@ -6,6 +7,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <thread>
 
 #include "app/run_tool.h"
 #include "ldraw/reader.h"
@@ -315,6 +317,24 @@ TEST(Brickcheck, HeatMapIsAnLDrawFileColouredByCapacity) {
   auto input = scratch("input.ldr");
   fs::copy_file(bridge('a', 2), input, fs::copy_options::overwrite_existing);
   EXPECT_EQ(run_tool("brickcheck", {"--heatmap", input.string(), input.string()}).exit_code, 2);
+}
+
+TEST(Brickcheck, ADeviceIsRefusedAndAPipeIsRead) {
+  // /dev/zero was read forever (issue 19); a pipe such as <(git show HEAD:model.ldr) is a model.
+  if (fs::exists("/dev/zero")) {
+    auto r = run_tool("brickcheck", {"/dev/zero"});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.out.find("is a device"), std::string::npos) << r.out;
+  }
+  const fs::path fifo = scratch("model.fifo");
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::thread writer(
+      [&] { std::ofstream(fifo) << "0 One brick\n1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"; });
+  auto r = run_tool("brickcheck", {fifo.string()});
+  writer.join();
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("STABLE"), std::string::npos) << r.out;
 }
 
 TEST(Brickcheck, TheHeatMapIsTheSameWhateverTheThreads) {
