@@ -161,7 +161,6 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
     for (const auto& e : exceeded) words += "\n  " + e;
     throw InputError("", 0, "impossible limits: the model needs more bricks than allowed:" + words);
   }
-  s.rules->limits.use_up(lay);
   out.seconds_initialize = since(t);
   s.stage(fmt::format("initialized: {} bricks, {} component{} ({} at first{})", lay.brick_count(),
                       out.connect.components, out.connect.components == 1 ? "" : "s",
@@ -203,6 +202,8 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
                          : describe_brick(out, f.weakest.front().lower) + " holding " +
                                describe_brick(out, f.weakest.front().upper);
   }
+  // What this piece uses is not there for the next (after the refinement, which may change it).
+  s.rules->limits.use_up(lay);
   // A building order in which every step stands (the paper's first limitation).
   t = Clock::now();
   out.order = layout::plan_build_order(out.la.assembly, s.order);
