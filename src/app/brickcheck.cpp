@@ -10,6 +10,7 @@
 #include "app/output_paths.h"
 #include "core/brick_catalog.h"
 #include "core/error.h"
+#include "core/text.h"
 #include "ldraw/reader.h"
 #include "ldraw/writer.h"
 #include "parts/part_library.h"
@@ -39,8 +40,7 @@ bool is_ldraw_library(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return false;
   for (fs::directory_iterator d(dir, ec), end; !ec && d != end; d.increment(ec)) {
-    std::string name = d->path().filename().string();
-    for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string name = ascii_lower(d->path().filename().string());
     if ((name == "parts" || name == "p") && d->is_directory(ec)) return true;
   }
   return false;

@@ -19,6 +19,7 @@
 #include "core/brick_catalog.h"
 #include "core/error.h"
 #include "core/lattice.h"
+#include "core/text.h"
 #include "layout/build_order.h"
 #include "layout/pieces.h"
 #include "layout/reconfigure.h"
@@ -388,8 +389,7 @@ int main(int argc, char** argv) {
   rep.min_cm_gf = min_cm;
   try {
     // Everything the user typed is checked before the work starts.
-    std::string ext = fs::path(output).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string ext = ascii_lower(fs::path(output).extension().string());
     if (ext != ".ldr" && ext != ".mpd")
       throw InputError(output, 0, "-o: the model is written as .ldr or .mpd");
     app::check_outputs({{"-o", output},

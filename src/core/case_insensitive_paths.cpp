@@ -1,6 +1,7 @@
 #include "core/case_insensitive_paths.h"
 
 #include <cctype>
+#include "core/text.h"
 
 namespace lego {
 
@@ -13,9 +14,7 @@ const std::unordered_map<std::string, std::string>& CaseInsensitivePaths::listin
     std::error_code ec;
     for (fs::directory_iterator d(dir, ec), end; !ec && d != end; d.increment(ec)) {
       std::string name = d->path().filename().string();
-      std::string lower;
-      for (char c : name) lower.push_back(char(std::tolower(static_cast<unsigned char>(c))));
-      it->second.emplace(std::move(lower), std::move(name));
+      it->second.emplace(ascii_lower(name), std::move(name));
     }
   }
   return it->second;
@@ -49,8 +48,7 @@ std::optional<fs::path> CaseInsensitivePaths::find(const fs::path& path) {
   fs::path existing = full;
   std::string rest;
   while (existing.has_relative_path() && !fs::exists(existing, ec)) {
-    std::string name = existing.filename().string();
-    for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string name = ascii_lower(existing.filename().string());
     rest = rest.empty() ? name : name + "/" + rest;
     existing = existing.parent_path();
   }

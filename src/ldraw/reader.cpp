@@ -3,6 +3,7 @@
 #include "core/brick_catalog.h"
 #include "core/case_insensitive_paths.h"
 #include "core/error.h"
+#include "core/text.h"
 #include "ldraw/tokens.h"
 
 #include <fmt/format.h>
@@ -45,12 +46,6 @@ namespace {
 // Coordinates beyond this (LDU, about 40 km) are taken as corrupt input, not a model.
 constexpr double kAbsurdCoordinate = 1e6;
 
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
 std::optional<double> parse_number(std::string_view token) {
   if (token.starts_with("+")) token.remove_prefix(1);
   double value = 0;
@@ -62,7 +57,7 @@ std::optional<double> parse_number(std::string_view token) {
 // Whether an `0 !LDRAW_ORG` value marks a part file (Part, Subpart, Primitive, Shortcut and
 // their Unofficial_ forms) rather than a model: parts are leaves, models are flattened.
 bool names_a_part(std::string_view ldraw_org) {
-  const std::string org = lower(ldraw_org);
+  const std::string org = ascii_lower(ldraw_org);
   for (const char* kind : {"part", "primitive", "shortcut"})  // "part" also matches Subpart
     if (org.find(kind) != std::string::npos) return true;
   return false;
@@ -473,7 +468,7 @@ class Flattener {
     std::ifstream in(path);
     std::string line;
     for (int i = 0; i < 20 && std::getline(in, line); ++i)
-      if (auto at = lower(line).find("!ldraw_org"); at != std::string::npos)
+      if (auto at = ascii_lower(line).find("!ldraw_org"); at != std::string::npos)
         return names_a_part(std::string_view(line).substr(at + 10));
     return false;
   }
@@ -542,7 +537,7 @@ class Flattener {
         return descend(*sub, sub->blocks.front(), ref, world, color);
       }
     }
-    std::string ext = lower(fs::path(ref.name).extension().string());
+    std::string ext = ascii_lower(fs::path(ref.name).extension().string());
     if (ext == ".ldr" || ext == ".mpd" || ext == ".l3b") {
       diag(Severity::Error, doc, ref.line, fmt::format("missing submodel '{}'", ref.name));
       return;

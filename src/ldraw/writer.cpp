@@ -14,6 +14,7 @@
 #include <csignal>
 
 #include "core/error.h"
+#include "core/text.h"
 
 namespace lego::ldraw {
 namespace {
@@ -326,10 +327,7 @@ void write_files_atomically(
 }
 
 bool is_mpd(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return ext == ".mpd";
+  return ascii_lower(path.extension().string()) == ".mpd";
 }
 
 std::string model_text(const std::filesystem::path& path, const Assembly& assembly,

@@ -22,6 +22,7 @@
 
 #include "core/case_insensitive_paths.h"
 #include "core/error.h"
+#include "core/text.h"
 #include "mesh/image.h"
 
 namespace lego::mesh {
@@ -34,16 +35,11 @@ Vec3 to_y_up(const aiVector3D& p, UpAxis up) {
   return up.sign > 0 ? Vec3{p.x, p.y, p.z} : Vec3{p.x, -p.y, -p.z};
 }
 
-std::string lower(std::string text) {
-  for (char& c : text) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return text;
-}
-
 // The up axis the file declares, or its format's convention, with the reason in words. Collada's
 // up_axis is applied by Assimp itself (when --up is not given), so what Assimp returns is +y.
 std::pair<UpAxis, std::string> declared_up(const aiScene* scene,
                                            const std::filesystem::path& path) {
-  const std::string ext = lower(path.extension().string());
+  const std::string ext = ascii_lower(path.extension().string());
   int32_t axis = -1, sign = 1;
   if (scene->mMetaData && scene->mMetaData->Get("UpAxis", axis) && axis >= 0 && axis <= 2) {
     scene->mMetaData->Get("UpAxisSign", sign);
@@ -82,7 +78,7 @@ std::optional<std::filesystem::path> find_texture(const std::string& name,
   namespace fs = std::filesystem;
   std::string file = name;
   std::replace(file.begin(), file.end(), '\\', '/');
-  if (lower(file).rfind("file://", 0) == 0) file = file.substr(7);
+  if (ascii_lower(file).rfind("file://", 0) == 0) file = file.substr(7);
   const bool drive =
       file.size() >= 2 && std::isalpha(static_cast<unsigned char>(file[0])) && file[1] == ':';
   if (drive) file = file.substr(2);
@@ -100,14 +96,14 @@ std::optional<std::filesystem::path> find_texture(const std::string& name,
   }
   if (leaf.empty()) return std::nullopt;
   // The file name alone, anywhere below the mesh's folder (a "textures" or "maps" folder).
-  const std::string wanted = lower(leaf.string());
+  const std::string wanted = ascii_lower(leaf.string());
   std::error_code ec;
   int seen = 0;
   for (fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec),
        end;
        !ec && it != end && seen < 10000; it.increment(ec), ++seen) {
     if (it.depth() >= 3) it.disable_recursion_pending();
-    if (lower(it->path().filename().string()) == wanted && it->is_regular_file(ec))
+    if (ascii_lower(it->path().filename().string()) == wanted && it->is_regular_file(ec))
       return it->path();
   }
   looked.push_back(dir.string() + "/**/" + leaf.string());
@@ -166,7 +162,7 @@ int material_texture(const aiScene* scene, const aiMaterial* m, const std::files
 }  // namespace
 
 std::optional<UpAxis> parse_up_axis(const std::string& text) {
-  std::string t = lower(text);
+  std::string t = ascii_lower(text);
   int sign = 1;
   if (!t.empty() && (t[0] == '-' || t[0] == '+')) {
     sign = t[0] == '-' ? -1 : 1;

@@ -7,14 +7,13 @@
 #include <sstream>
 #include <system_error>
 
+#include "core/brick_catalog.h"
+
 namespace lego::parts {
 namespace fs = std::filesystem;
 
 std::string safe_reference(std::string_view reference) {
-  std::string out;
-  out.reserve(reference.size());
-  for (char c : reference)
-    out.push_back(c == '\\' ? '/' : char(std::tolower(static_cast<unsigned char>(c))));
+  std::string out = normalize_reference(reference);
   while (!out.empty() && std::isspace(static_cast<unsigned char>(out.back()))) out.pop_back();
   if (out.empty() || out.front() == '/' || (out.size() > 1 && out[1] == ':')) return {};
   size_t start = 0;
