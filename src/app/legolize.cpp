@@ -137,7 +137,6 @@ struct PieceResult {
   int pieces_before = 0;
   size_t voxels_added = 0;
   layout::RefineResult refined;  // `final` is the finished piece's analysis
-  bool refined_layout = false;
   bool stable = true, steps_stand = true;
   std::string bottleneck;
   layout::BuildOrder order;
@@ -177,10 +176,10 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
         s.refine.fail_max, out.connect.components);
   }
   t = Clock::now();
-  if (out.connect.single && s.refine_layout) {
+  const bool refining = out.connect.single && s.refine_layout;
+  if (refining) {
     s.stage("refining");
     out.refined = layout::refine_layout(lay, *s.catalog, *s.rules, rng, s.refine);
-    out.refined_layout = true;
     out.stable = out.refined.stable;
     s.stage(fmt::format(
         "refined: C_M {} -> {}, {} iterations, {} accepted; {} whole-model analyses, {} "
@@ -191,7 +190,7 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
   }
   out.seconds_refine = since(t);
   out.la = layout::to_assembly(lay, *s.catalog, s.refine.inside_color, s.refine.loads);
-  if (!out.refined_layout) {
+  if (!refining) {
     out.refined.initial = out.refined.final =
         physics::analyze_stability(out.la.assembly, s.refine.stability);
     out.stable = out.stable && out.refined.final.stable(s.min_cm);
@@ -461,36 +460,89 @@ int main(int argc, char** argv) {
                          fmt::format("--load {},{},{}: no voxel there (the grid is {} x {} x {})",
                                      l.x, l.y, l.z, grid.width, grid.height, grid.depth));
 
-    if (voxels_only) {
-      layout::LayoutAssembly la =
-          layout::to_assembly(layout::Layout(target), catalog, kInsideColor, refine.loads);
-      rep.status_initial = rep.status_final = "not analysed (--voxels-only)";
-      rep.cm_gf_initial = rep.cm_gf_final = std::numeric_limits<double>::quiet_NaN();  // null
-      rep.stable = rep.steps_stand = true;
-      rep.bricks = la.assembly.bricks.size();
-      for (const Brick& b : la.assembly.bricks) ++rep.bricks_by_part[b.type->part];
-      const std::string title = "Voxels of " + fs::path(input).stem().string();
-      const auto parts = report::count_parts(la.assembly);
-      std::vector<std::pair<fs::path, std::string>> files;
+    // The files, all or none: every text is made before any file is written, so a refused
+    // BrickLink list (an unmapped color) or an unwritable heat map leaves nothing behind. Then the
+    // booklet, of the file as written. `heat_maps` adds theirs to the files.
+    using Files = std::vector<std::pair<fs::path, std::string>>;
+    auto write_outputs = [&](const std::vector<const Assembly*>& assemblies,
+                             const std::string& title,
+                             const std::function<void(Files&)>& heat_maps) {
+      t = Clock::now();
       ldraw::WriteOptions w;
       w.title = title;
       w.author = "legolize";
-      files.emplace_back(output, ldraw::model_text(output, la.assembly, w));
+      Assembly all;  // every piece's bricks, for the parts lists
+      for (const Assembly* a : assemblies) {
+        all.bricks.insert(all.bricks.end(), a->bricks.begin(), a->bricks.end());
+        for (const Brick& b : a->bricks) ++rep.bricks_by_part[b.type->part];
+      }
+      rep.bricks = all.bricks.size();
+      const auto parts = report::count_parts(all);
+      Files files;
+      files.emplace_back(output, ldraw::model_text(output, assemblies, w));
       if (!parts_list.empty()) files.emplace_back(parts_list, report::parts_list_csv(parts));
       if (!bricklink.empty())
         files.emplace_back(bricklink,
                            report::bricklink_xml(parts, report::BrickLinkMap::standard()));
+      if (heat_maps) heat_maps(files);
+      rep.seconds.emplace_back("output", since(t));
       rep.seconds.emplace_back("total", since(start));
       if (!report_path.empty()) files.emplace_back(report_path, report_json(rep));
       ldraw::write_files_atomically(files);
-      std::cout << fmt::format("{}: {} voxels as 1x1 bricks, {} x {} x {} voxels\n", output,
-                               rep.bricks, grid.width, grid.height, grid.depth);
+      if (instructions.empty()) return;
+      report::Booklet booklet = report::booklet_of(ldraw::read_file(output));
+      for (report::BookletStep& bs : booklet.steps)
+        if (bs.number >= 1 && bs.number <= int(rep.steps.size())) {
+          const auto& st = rep.steps[size_t(bs.number - 1)];
+          if (!st.analysed) continue;
+          if (std::isfinite(st.cm_gf)) bs.cm_gf = st.cm_gf;
+          bs.stands = st.stands;
+          bs.why = st.why;
+        }
+      if (std::isfinite(rep.cm_gf_final)) booklet.cm_gf = rep.cm_gf_final;
+      booklet.verdict = fmt::format("The finished model: C_M = {} ({}).", cm_words(rep.cm_gf_final),
+                                    rep.stable ? "it stands" : "it does not stand");
+      const std::string note =
+          report::write_booklet(instructions, booklet, output, default_parts_dir(), stage);
+      if (!note.empty()) std::cerr << "legolize: " << note << "\n";
+    };
+    auto print_bricks = [&] {
+      std::string by_part;
+      for (const auto& [part, n] : rep.bricks_by_part)
+        by_part += fmt::format("{}{} {}", by_part.empty() ? "" : ", ", n,
+                               catalog.find(part) ? catalog.find(part)->name : part);
+      std::cout << fmt::format("{}: {} bricks ({}), {} x {} x {} voxels\n", output, rep.bricks,
+                               by_part, grid.width, grid.height, grid.depth);
+    };
+
+    if (voxels_only) {
+      const layout::LayoutAssembly la =
+          layout::to_assembly(layout::Layout(target), catalog, kInsideColor, refine.loads);
+      rep.status_initial = rep.status_final = "not analysed (--voxels-only)";
+      rep.cm_gf_initial = rep.cm_gf_final = std::numeric_limits<double>::quiet_NaN();  // null
+      rep.stable = rep.steps_stand = true;
+      write_outputs({&la.assembly}, "Voxels of " + fs::path(input).stem().string(), {});
+      print_bricks();
       return 0;
     }
 
     // A scene's separate objects (layout/pieces.h): those on the ground are one piece, every
     // other object a piece of its own, built apart.
     std::vector<layout::Piece> pieces = layout::split_pieces(target);
+    // A piece built apart gets a heat map of its own: its file is checked with the others, before
+    // the work, as the files the user named were.
+    std::vector<fs::path> heat_map_paths;
+    if (!heatmap.empty()) {
+      std::vector<app::Output> outputs{{"-o", output},
+                                       {"--parts-list", parts_list},
+                                       {"--bricklink", bricklink},
+                                       {"--report", report_path}};
+      for (size_t k = 0; k < pieces.size(); ++k) {
+        heat_map_paths.push_back(k == 0 ? fs::path(heatmap) : piece_file(heatmap, int(k) + 1));
+        outputs.push_back({"--heatmap", heat_map_paths.back().string()});
+      }
+      app::check_outputs(outputs, {input});
+    }
     if (pieces.size() > 1)
       stage(fmt::format("{} pieces: {} object{} on the ground, {} not reaching it", pieces.size(),
                         pieces.front().grounded() ? pieces.front().objects : 0,
@@ -550,9 +602,10 @@ int main(int argc, char** argv) {
 
     // The report: the model's numbers are its pieces' together, its C_M the weakest piece's.
     t = Clock::now();
-    rep.stable = rep.steps_stand = rep.single_connected = true;
+    rep.stable = rep.steps_stand = rep.single_connected = rep.decided = true;
     rep.steps_analysed = !no_step_analysis;
     size_t weakest = 0;
+    double seconds_initialize = 0, seconds_refine = 0, seconds_order = 0;
     for (size_t k = 0; k < results.size(); ++k) {
       const PieceResult& r = results[k];
       const double cm = layout::comparable_cm_gf(r.refined.final);
@@ -561,6 +614,7 @@ int main(int argc, char** argv) {
       rep.pieces_before_joining += r.pieces_before;
       rep.voxels_added_to_join += r.voxels_added;
       rep.single_connected = rep.single_connected && r.connect.single;
+      rep.decided = rep.decided && physics::decided(r.refined.final.status);
       rep.stable = rep.stable && r.stable;
       rep.steps_stand = rep.steps_stand && r.steps_stand;
       rep.iterations += r.refined.iterations;
@@ -568,8 +622,9 @@ int main(int argc, char** argv) {
       rep.lp_solves += r.refined.lp_solves;
       rep.rejected_by_bound += r.refined.rejected_by_bound;
       rep.held_back += r.order.held_back;
-      rep.bricks += r.la.assembly.bricks.size();
-      for (const Brick& b : r.la.assembly.bricks) ++rep.bricks_by_part[b.type->part];
+      seconds_initialize += r.seconds_initialize;
+      seconds_refine += r.seconds_refine;
+      seconds_order += r.seconds_order;
       if (!r.stable && rep.bottleneck.empty())
         rep.bottleneck =
             results.size() > 1 ? fmt::format("piece {}: {}", k + 1, r.bottleneck) : r.bottleneck;
@@ -595,92 +650,41 @@ int main(int argc, char** argv) {
            .submodel =
                k == 0 || !ldraw::is_mpd(output)
                    ? std::string()
-                   : fmt::format("{}-piece-{}.ldr", fs::path(output).stem().string(), k + 1)});
+                   : ldraw::piece_submodel_name(fs::path(output).filename().string(), int(k) + 1)});
     }
     const PieceResult& weak = results[weakest];
-    rep.decided = true;
-    for (const PieceResult& r : results)
-      rep.decided = rep.decided && physics::decided(r.refined.final.status);
     rep.solver_final = weak.refined.final.stats.solver;
     rep.solver_note_final = weak.refined.final.message;
     rep.cm_gf_initial = layout::comparable_cm_gf(weak.refined.initial);
     rep.cm_gf_final = layout::comparable_cm_gf(weak.refined.final);
     rep.status_initial = physics::to_string(weak.refined.initial.status);
     rep.status_final = physics::to_string(weak.refined.final.status);
-    double seconds_initialize = 0, seconds_refine = 0, seconds_order = 0;
-    for (const PieceResult& r : results) {
-      seconds_initialize += r.seconds_initialize;
-      seconds_refine += r.seconds_refine;
-      seconds_order += r.seconds_order;
-    }
     rep.seconds.emplace_back("initialize", seconds_initialize);
     rep.seconds.emplace_back("refine", seconds_refine);
     rep.seconds.emplace_back("build_order", seconds_order);
 
     // Outputs.
-    ldraw::WriteOptions w;
-    w.title = "LEGO " + fs::path(input).stem().string();
-    w.author = "legolize";
     std::vector<const Assembly*> assemblies;
-    Assembly all;  // every piece's bricks, for the parts lists
-    for (const PieceResult& r : results) {
-      assemblies.push_back(&r.la.assembly);
-      all.bricks.insert(all.bricks.end(), r.la.assembly.bricks.begin(), r.la.assembly.bricks.end());
-    }
-    const auto parts = report::count_parts(all);
-    // Every text is made before any file is written, and the files land all or none: a refused
-    // BrickLink list (an unmapped color) or an unwritable heat map leaves nothing behind.
-    std::vector<std::pair<fs::path, std::string>> files;
-    files.emplace_back(output, ldraw::model_text(output, assemblies, w));
-    if (!parts_list.empty()) files.emplace_back(parts_list, report::parts_list_csv(parts));
-    if (!bricklink.empty())
-      files.emplace_back(bricklink, report::bricklink_xml(parts, report::BrickLinkMap::standard()));
-    if (!heatmap.empty()) {
+    for (const PieceResult& r : results) assemblies.push_back(&r.la.assembly);
+    const std::string title = "LEGO " + fs::path(input).stem().string();
+    write_outputs(assemblies, title, [&](Files& files) {
+      if (heatmap.empty()) return;
       stage("per-brick capacity for the heat map");
       physics::StabilityOptions with_capacity = refine.stability;
       with_capacity.brick_capacity = true;
       for (size_t k = 0; k < results.size(); ++k) {
         const PieceResult& r = results[k];
         const auto s = physics::analyze_stability(r.la.assembly, with_capacity);
-        const fs::path path = k == 0 ? fs::path(heatmap) : piece_file(heatmap, int(k) + 1);
-        if (k > 0) app::check_outputs({{"--heatmap", path.string()}}, {input, output});
         files.emplace_back(
-            path, report::render_heatmap(
-                      r.la.assembly, s,
-                      "Stability heat map of " + w.title +
-                          (results.size() > 1 ? fmt::format(", piece {}", k + 1) : std::string()),
-                      "legolize", [&](int brick) { return describe_brick(r, brick); }));
+            heat_map_paths[k],
+            report::render_heatmap(
+                r.la.assembly, s,
+                "Stability heat map of " + title +
+                    (results.size() > 1 ? fmt::format(", piece {}", k + 1) : std::string()),
+                "legolize", [&](int brick) { return describe_brick(r, brick); }));
       }
-    }
-    rep.seconds.emplace_back("output", since(t));
-    rep.seconds.emplace_back("total", since(start));
-    if (!report_path.empty()) files.emplace_back(report_path, report_json(rep));
-    ldraw::write_files_atomically(files);
-    if (!instructions.empty()) {
-      // The booklet shows the file as written, read back as any LDraw tool would.
-      report::Booklet booklet = report::booklet_of(ldraw::read_file(output));
-      for (report::BookletStep& bs : booklet.steps)
-        if (bs.number >= 1 && bs.number <= int(rep.steps.size())) {
-          const auto& st = rep.steps[size_t(bs.number - 1)];
-          if (!st.analysed) continue;
-          if (std::isfinite(st.cm_gf)) bs.cm_gf = st.cm_gf;
-          bs.stands = st.stands;
-          bs.why = st.why;
-        }
-      if (std::isfinite(rep.cm_gf_final)) booklet.cm_gf = rep.cm_gf_final;
-      booklet.verdict = fmt::format("The finished model: C_M = {} ({}).", cm_words(rep.cm_gf_final),
-                                    rep.stable ? "it stands" : "it does not stand");
-      const std::string note =
-          report::write_booklet(instructions, booklet, output, default_parts_dir(), stage);
-      if (!note.empty()) std::cerr << "legolize: " << note << "\n";
-    }
-
-    std::string by_part;
-    for (const auto& [part, n] : rep.bricks_by_part)
-      by_part += fmt::format("{}{} {}", by_part.empty() ? "" : ", ", n,
-                             catalog.find(part) ? catalog.find(part)->name : part);
-    std::cout << fmt::format("{}: {} bricks ({}), {} x {} x {} voxels\n", output, rep.bricks,
-                             by_part, grid.width, grid.height, grid.depth);
+    });
+    print_bricks();
     if (results.size() > 1)
       for (const auto& p : rep.pieces)
         std::cout << fmt::format(

@@ -142,16 +142,19 @@ std::string to_ldr(const std::vector<const Assembly*>& pieces, const WriteOption
   return out;
 }
 
+std::string piece_submodel_name(const std::string& model_name, int piece) {
+  return fmt::format("{}-piece-{}.ldr", std::filesystem::path(model_name).stem().string(), piece);
+}
+
 std::string to_mpd(const Assembly& assembly, const WriteOptions& options) {
   return to_mpd(std::vector<const Assembly*>{&assembly}, options);
 }
 
 std::string to_mpd(const std::vector<const Assembly*>& pieces, const WriteOptions& options) {
   const std::string main_name = options.name.empty() ? "model.ldr" : options.name;
-  const std::string stem = std::filesystem::path(main_name).stem().string();
   std::string extra, rest;
   for (size_t k = 1; k < pieces.size(); ++k) {
-    const std::string name = fmt::format("{}-piece-{}.ldr", stem, k + 1);
+    const std::string name = piece_submodel_name(main_name, int(k) + 1);
     extra +=
         piece_comment(k + 1, pieces.size()) + "1 16 0 0 0 1 0 0 0 1 0 0 0 1 " + name + "\n0 STEP\n";
     rest += mpd_model(*pieces[k], name, fmt::format("{} - piece {}", options.title, k + 1),

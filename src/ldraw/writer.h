@@ -41,6 +41,8 @@ void write_files_atomically(
 // after the first piece's; in an .ldr its bricks follow as further steps, after a comment that
 // says so. Bricks are where their assembly's origin puts them.
 std::string to_ldr(const std::vector<const Assembly*>& pieces, const WriteOptions& options);
+// The submodel name of a further piece: "model.mpd", 2 -> "model-piece-2.ldr".
+std::string piece_submodel_name(const std::string& model_name, int piece);
 std::string to_mpd(const std::vector<const Assembly*>& pieces, const WriteOptions& options);
 
 // Whether `path` names an .mpd (any case).

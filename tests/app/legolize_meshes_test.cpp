@@ -283,6 +283,25 @@ TEST(LegolizeMeshes, AnObjectOffTheGroundIsAPieceBuiltApart) {
   EXPECT_EQ(p["pieces"][0]["objects"].get<int>(), 2);
 }
 
+TEST(LegolizeMeshes, APieceBuiltApartHasItsOwnHeatMapCheckedWithTheOtherOutputs) {
+  const fs::path obj = scratch("two.obj");
+  std::ofstream(obj) << obj_box(0, 0, 0, 12, 12, 12, 1) << obj_box(24, 24, 0, 36, 36, 12, 9);
+  const fs::path mpd = scratch("two.mpd"), heat = scratch("heat.ldr");
+  auto run = run_tool("legolize", {obj.string(), "--height", "12", "-o", mpd.string(), "--heatmap",
+                                   heat.string(), "--quiet", "--no-step-analysis"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(fs::exists(heat));
+  EXPECT_TRUE(fs::exists(scratch("heat-piece-2.ldr")));
+  // The second piece's heat map is the file --report names: refused, nothing written.
+  fs::remove(mpd);
+  run = run_tool("legolize",
+                 {obj.string(), "--height", "12", "-o", mpd.string(), "--heatmap", heat.string(),
+                  "--report", scratch("heat-piece-2.ldr").string(), "--quiet"});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("name the same file"), std::string::npos) << run.err;
+  EXPECT_FALSE(fs::exists(mpd));
+}
+
 TEST(LegolizeMeshes, AThinSpanIsJoinedWithAddedVoxelsAndTheReportSaysHowMany) {
   // Two towers joined at their top by a one-stud beam one layer thick and 18 studs long: no
   // brick is that long, so the layout cuts the beam into pieces that only added voxels join.

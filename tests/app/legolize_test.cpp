@@ -78,6 +78,15 @@ TEST(Legolize, VoxelsOnlyWritesOneBrickPerVoxelInPaletteColours) {
                 .exit_code,
             0);
   EXPECT_LT(ldraw::read_file(hollow).parts.size(), ldraw::read_file(solid).parts.size());
+  // The voxels' building instructions, as for a layout.
+  const fs::path booklet = scratch("booklet");
+  fs::remove_all(booklet);
+  ASSERT_EQ(
+      run_tool("legolize", {coloured_cube().string(), "--voxels-only", "--height", "4", "-o",
+                            scratch("small.ldr").string(), "--instructions", booklet.string()})
+          .exit_code,
+      0);
+  EXPECT_TRUE(fs::exists(booklet / "index.html"));
 }
 
 // The model must come out turned, never mirrored: LDraw is right-handed with -y up.
