@@ -4,12 +4,6 @@
 #include <deque>
 
 namespace lego::voxel {
-namespace {
-
-constexpr int kFaces[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-
-}  // namespace
-
 std::vector<uint8_t> open_to_outside(int w, int h, int d,
                                      const std::function<bool(size_t)>& filled) {
   auto index = [&](int x, int y, int z) { return (size_t(y) * d + z) * w + x; };
@@ -28,7 +22,7 @@ std::vector<uint8_t> open_to_outside(int w, int h, int d,
   while (!queue.empty()) {
     const auto [x, y, z] = queue.front();
     queue.pop_front();
-    for (const auto& f : kFaces) {
+    for (const auto& f : kFaceSteps) {
       const int nx = x + f[0], ny = y + f[1], nz = z + f[2];
       if (nx >= 0 && ny >= 0 && nz >= 0 && nx < w && ny < h && nz < d) visit(nx, ny, nz);
     }
@@ -45,7 +39,7 @@ std::vector<size_t> seen_from_outside(int w, int h, int d,
       for (int x = 0; x < w; ++x) {
         const size_t i = (size_t(y) * d + z) * w + x;
         if (!filled(i)) continue;
-        for (const auto& f : kFaces) {
+        for (const auto& f : kFaceSteps) {
           const int nx = x + f[0], ny = y + f[1], nz = z + f[2];
           if (nx < 0 || ny < 0 || nz < 0 || nx >= w || ny >= h || nz >= d ||
               open[(size_t(ny) * d + nz) * w + nx]) {

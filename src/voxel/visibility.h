@@ -10,6 +10,10 @@
 
 namespace lego::voxel {
 
+// The six face neighbours of a cell, as (dx, dy, dz).
+inline constexpr int kFaceSteps[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                         {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+
 // Per cell (index (y * D + z) * W + x): 1 for an empty cell open to the outside.
 std::vector<uint8_t> open_to_outside(int width, int height, int depth,
                                      const std::function<bool(size_t)>& filled);

@@ -226,13 +226,11 @@ void hollow(VoxelGrid& g, int shell) {
           depth[g.index(x, y, z)] = 0;
           queue.push_back({x, y, z});
         }
-  static constexpr int kSteps[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
-                                       {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   while (!queue.empty()) {
     auto [x, y, z] = queue.front();
     queue.pop_front();
     const int d = depth[g.index(x, y, z)];
-    for (const auto& s : kSteps) {
+    for (const auto& s : kFaceSteps) {
       const int nx = x + s[0], ny = y + s[1], nz = z + s[2];
       if (g.at(nx, ny, nz) != Cell::Inside || depth[g.index(nx, ny, nz)] >= 0) continue;
       depth[g.index(nx, ny, nz)] = d + 1;
@@ -258,14 +256,12 @@ size_t colour_seen_inside(VoxelGrid& g) {
       source[i] = int(i);
       queue.push_back(i);
     }
-  static constexpr int kSteps[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
-                                       {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   while (!queue.empty()) {
     const size_t i = queue.front();
     queue.pop_front();
     const int x = int(i % size_t(g.width)), z = int((i / size_t(g.width)) % size_t(g.depth)),
               y = int(i / (size_t(g.width) * g.depth));
-    for (const auto& s : kSteps) {
+    for (const auto& s : kFaceSteps) {
       const int nx = x + s[0], ny = y + s[1], nz = z + s[2];
       if (g.at(nx, ny, nz) != Cell::Inside) continue;
       const size_t n = g.index(nx, ny, nz);
