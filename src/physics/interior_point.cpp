@@ -34,6 +34,8 @@ constexpr double kRegularization = 1e-14;
 constexpr double kCorrectorAccuracy = 1e-10, kPredictorAccuracy = 1e-8;
 // The worst relative residual or gap a run that could not reach its tolerance may still end at.
 constexpr double kAcceptable = 1e-6;
+// Iterations with μ negligible before the method stops with its best point.
+constexpr int kStalledIterations = 6;
 
 double max_step(const Vec& v, const Vec& dv) {
   double alpha = 1.0;
@@ -196,6 +198,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
     // The best point so far: on degenerate models the linear algebra can lose its accuracy near
     // the optimum (the normal matrix nearly singular), and the residual then only grows.
     double best_worst = std::numeric_limits<double>::infinity();
+    int stalled_iterations = 0;
     struct Point {
       Vec x, y, zl, zu;
     } best{x, y, zl, zu};
@@ -227,6 +230,15 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
       const bool stalled = mu < 1e-14 * (1 + std::abs(primal_obj));
       if (worst < options.tolerance || (stalled && worst < 10 * options.tolerance)) {
         result.converged = true;
+        break;
+      }
+      // Nor do more of them help: the corpus's Thomas house reached its optimum at iteration 11
+      // and jittered until the limit, μ at 1e-253, its residual where the rows' near dependence
+      // left it.
+      stalled_iterations = stalled ? stalled_iterations + 1 : 0;
+      if (stalled_iterations > kStalledIterations) {
+        result.message =
+            fmt::format("μ vanished at iteration {} with the residuals at {:.1e}", it, best_worst);
         break;
       }
       if (worst < best_worst) {

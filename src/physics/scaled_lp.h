@@ -15,15 +15,22 @@ namespace lego::physics {
 
 // In the scaled form w = T / max f. Past this bound friction is negligible: C_M = T.
 inline constexpr double kMaxScale = 1e6;
+// The whole-model analysis first caps w here (C_M within a thousandth of T), and only a model that
+// reaches it is solved again up to kMaxScale, with the support box as wide as the cap.
+inline constexpr double kFirstScale = 1e3;
 
 // The equilibrium columns with the bounds of their kind: friction in [0, friction_upper], normal
 // forces ≥ 0, support forces in ±support_bound (free when infinite); rows A·x = rhs_scale·b.
 LpData equilibrium_lp(const EquilibriumSystem& sys, double friction_upper, double rhs_scale,
                       double support_bound);
 
-// max w s.t. A·ξ − (b/T)·w = 0, 0 ≤ ξ_friction ≤ 1, 0 ≤ w ≤ kMaxScale (minimizes −w). Column
+// max w s.t. A·ξ − (b/T)·w = 0, 0 ≤ ξ_friction ≤ 1, 0 ≤ w ≤ cap (minimizes −w). Column
 // sys.columns() is w, the one dense column.
-LpData scaled_lp(const EquilibriumSystem& sys, double support_bound);
+LpData scaled_lp(const EquilibriumSystem& sys, double support_bound, double cap = kMaxScale);
+
+// max v s.t. A·ξ − (b/T)·v = 0 over the normal and support columns only, 0 ≤ v ≤ 1: v = 1 when
+// the model stands without friction. Column sys.columns() − sys.friction_columns is v.
+LpData frictionless_lp(const EquilibriumSystem& sys, double support_bound);
 
 // Our interior point method on an LP whose lower bounds are all finite; Failed when it does not
 // converge.
