@@ -213,7 +213,10 @@ void brick_capacity(const Assembly& a, const EquilibriumSystem& sys, const Stabi
   r.brick_capacity.assign(n, kMaxFrictionLoad);
   const double u = (kMaxFrictionLoad - r.cm) / kMaxFrictionLoad;  // max friction, in units of T
   if (u <= 0) return;
-  LpData lp = equilibrium_lp(sys, u * (1 + 1e-7) + 1e-9, 1.0 / kMaxFrictionLoad, kInfinity);
+  // C_M is exact to 1e-6 of T, and so u is only to 1e-6, however small it is: a bound tighter
+  // than that can leave no distribution at all, and Clp's QP then searches for minutes (the bench's
+  // box with duplicated parts, 735 s once w's last digits moved).
+  LpData lp = equilibrium_lp(sys, u * (1 + 1e-6) + 1e-6, 1.0 / kMaxFrictionLoad, kInfinity);
   lp.quadratic_diagonal.assign(lp.columns(), 0.0);
   for (int j = 0; j < sys.friction_columns; ++j) lp.quadratic_diagonal[j] = 1.0;
   LpSolution s = solve_lp(lp, LpMethod::PrimalSimplex, false, o.scaling, o.max_seconds);
