@@ -299,6 +299,25 @@ TEST(Brickcheck, FiftyThousandPartsInSeconds) {
   RecordProperty("seconds", std::to_string(seconds));
 }
 
+// Found by the fuzzer (tools/fuzz.sh): a 1x8 brick scaled a millionfold along its length is
+// carried, and its body, 160 km long, filled the contact graph's spatial index cell by cell
+// (8 million cells, 25 s). Scaled a millionfold along all three axes (the most the reader takes)
+// it would have been 10^18 cells. Such a body is now kept apart in the index.
+TEST(Brickcheck, APartScaledAMillionfoldIsCarriedAtOnce) {
+  for (const char* matrix : {"1e6 0 1 0 1 0 -1 0 0", "1e6 0 0 0 1e6 0 0 0 1e6"}) {
+    auto path = scratch("scaled.ldr");
+    {
+      std::ofstream out(path);
+      out << "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+          << "1 14 0 -24 0 " << matrix << " 3008.dat\n";
+    }
+    json j = check_json({path.string()}, 0);
+    ASSERT_EQ(j["carried"].size(), 1u) << matrix;
+    EXPECT_EQ(j["carried"][0]["reason"], "its matrix is scaled or sheared");
+    EXPECT_EQ(j["cm_gf"], 71.658);
+  }
+}
+
 TEST(Brickcheck, HeatMapIsAnLDrawFileColouredByCapacity) {
   auto out = scratch("heat.ldr");
   fs::remove(out);
