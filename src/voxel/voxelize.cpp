@@ -86,6 +86,12 @@ VoxelGrid voxelize(const mesh::Mesh& m, const VoxelizeOptions& o) {
                      fmt::format("{:.0f} x {:.0f} x {:.0f} voxels is more than the budget of {} "
                                  "(--max-voxels)",
                                  width, height, depth, o.max_voxels));
+  if (!(std::max({width, height, depth}) <= double(o.max_side)))
+    throw InputError(m.source, 0,
+                     fmt::format("{:.0f} x {:.0f} x {:.0f} voxels has a side longer than {} voxels "
+                                 "(the mesh is that much longer than high): give its size with "
+                                 "--size WxHxD or --scale",
+                                 width, height, depth, o.max_side));
   g.width = int(width), g.height = int(height), g.depth = int(depth);
   g.cells.assign(size_t(total), Cell::Empty);
   g.color.assign(size_t(total), mesh::Rgb{0, 0, 0});

@@ -14,6 +14,10 @@ struct VoxelizeOptions {
   std::array<int, 3> fit{0, 0, 0};  // fit within W studs x H bricks x D studs
   double mm_per_unit = 0;           // the mesh's unit in millimetres (a brick is 9.6 mm high)
   size_t max_voxels = 8'000'000;    // refuse grids larger than this (InputError)
+  // Refuse grids with a side longer than this (InputError): 4,096 studs are 33 m of LEGO. Within
+  // the voxel budget a sliver triangle still made a grid 2,400,000 x 2 x 1 at --height 2 (found
+  // by tools/fuzz.sh): 28 s to voxelize, 725,828 bricks, a refinement that never ended.
+  int max_side = 4096;
 };
 
 // Surface voxels by exact triangle–box overlap (separating axes), so thin walls and sharp

@@ -758,5 +758,25 @@ TEST(Legolize, AMeshWiderThanTheBudgetIsRefusedNotWrapped) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// Found by tools/fuzz.sh: a sliver triangle 1,000 units long and 0.001 high, at 2 bricks high,
+// is 2,400,000 x 2 x 1 voxels, inside the voxel budget; it took 28 s to voxelize and its 725,828
+// bricks never finished refining. A side over 4,096 voxels (33 m of LEGO) is refused at once.
+TEST(Legolize, ASliverLongerThanAnyModelIsRefused) {
+  const fs::path ply = scratch("sliver.ply"), out = scratch("sliver.ldr");
+  std::ofstream(ply) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                        "property float y\nproperty float z\nelement face 1\n"
+                        "property list uchar int vertex_indices\nend_header\n0 0 0\n1000 0 0\n"
+                        "0 0.001 0\n3 0 1 2\n";
+  auto run = run_tool("legolize", {ply.string(), "-o", out.string(), "--height", "2", "--quiet"});
+  EXPECT_EQ(run.exit_code, 2) << run.out;
+  EXPECT_NE(run.err.find("2400000 x 2 x 1 voxels has a side longer than 4096"), std::string::npos)
+      << run.err;
+  EXPECT_FALSE(fs::exists(out));
+  // Given a size, the same sliver is a model.
+  auto sized = run_tool("legolize", {ply.string(), "-o", out.string(), "--size", "40x2x40",
+                                     "--quiet", "--no-refine"});
+  EXPECT_NE(sized.exit_code, 2) << sized.err;
+}
+
 }  // namespace
 }  // namespace lego
