@@ -762,7 +762,9 @@ TEST(Legolize, AMeshWiderThanTheBudgetIsRefusedNotWrapped) {
 // is 2,400,000 x 2 x 1 voxels, inside the voxel budget; it took 28 s to voxelize and its 725,828
 // bricks never finished refining. A side over 4,096 voxels (33 m of LEGO) is refused at once.
 TEST(Legolize, ASliverLongerThanAnyModelIsRefused) {
-  const fs::path ply = scratch("sliver.ply"), out = scratch("sliver.ldr");
+  const fs::path ply = scratch("sliver.ply"), out = scratch("sliver.ldr"),
+                 sized_out = scratch("sliver-sized.ldr");
+  fs::remove(out);  // the scratch folder outlives the run
   std::ofstream(ply) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
                         "property float y\nproperty float z\nelement face 1\n"
                         "property list uchar int vertex_indices\nend_header\n0 0 0\n1000 0 0\n"
@@ -773,7 +775,7 @@ TEST(Legolize, ASliverLongerThanAnyModelIsRefused) {
       << run.err;
   EXPECT_FALSE(fs::exists(out));
   // Given a size, the same sliver is a model.
-  auto sized = run_tool("legolize", {ply.string(), "-o", out.string(), "--size", "40x2x40",
+  auto sized = run_tool("legolize", {ply.string(), "-o", sized_out.string(), "--size", "40x2x40",
                                      "--quiet", "--no-refine"});
   EXPECT_NE(sized.exit_code, 2) << sized.err;
 }
