@@ -207,7 +207,7 @@ void fuzz_in_process(int count, const std::vector<std::string>& seeds,
   Watchdog watchdog(timeout, current);
   report::AuditOptions base;
   base.read.library_dirs = library_dirs;
-  base.read.max_parts = 200000;
+  base.read.max_parts = 200000;  // brickcheck's 2,000,000 would make a copied line take minutes
   base.stability.max_seconds = timeout / 2;
   parts::PartLibrary library(library_dirs, BrickCatalog::standard());
   for (int i = 0; i < count; ++i) {
