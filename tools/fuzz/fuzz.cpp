@@ -208,7 +208,8 @@ void fuzz_in_process(int count, const std::vector<std::string>& seeds,
   report::AuditOptions base;
   base.read.library_dirs = library_dirs;
   base.read.max_parts = 200000;  // brickcheck's 2,000,000 would make a copied line take minutes
-  base.stability.max_seconds = timeout / 2;
+  // The analysis, and the build steps after it, give up long before an input counts as a hang.
+  base.stability.max_seconds = timeout / 4;
   parts::PartLibrary library(library_dirs, BrickCatalog::standard());
   for (int i = 0; i < count; ++i) {
     const auto mutation = LdrawMutation(i % kLdrawMutations);
@@ -355,6 +356,8 @@ void fuzz_brickcheck(int count, const std::vector<std::string>& seeds, const fs:
     std::vector<std::string> argv = {(bin / "brickcheck").string(), "--json"};
     if (!ldraw_dir.empty()) argv.insert(argv.end(), {"--ldraw-dir", ldraw_dir});
     const auto& extra = kOptions[rng() % kOptions.size()];
+    if (extra.empty() || extra[0] != "--max-seconds")  // giving up long before a hang
+      argv.insert(argv.end(), {"--max-seconds", fmt::format("{}", timeout / 4)});
     argv.insert(argv.end(), extra.begin(), extra.end());
     argv.push_back(model.string());
     const ProcessRun run = run_process(argv, dir, timeout);

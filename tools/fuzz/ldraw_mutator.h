@@ -11,7 +11,7 @@ namespace lego::fuzz {
 using Rng = std::mt19937_64;
 
 enum class LdrawMutation {
-  Lines,       // delete, duplicate (up to 100,000 copies), swap, cut, extra tokens, positions
+  Lines,       // delete, duplicate (up to 20,000 copies), swap, cut, extra tokens, positions
   Matrices,    // turns by any angle, two-decimal rotations, mirrors, scales, singular, nan
   Colours,     // codes LDraw has, codes it has not, direct colours, numbers out of range
   Files,       // FILE blocks: submodels, embedded parts, loops, fan-out, empty, duplicated names
