@@ -218,8 +218,11 @@ void brick_capacity(const Assembly& a, const EquilibriumSystem& sys, const Stabi
   if (u <= 0) return;
   // C_M is exact to 1e-6 of T, and so u is only to 1e-6, however small it is: a bound tighter
   // than that can leave no distribution at all, and Clp's QP then searches for minutes (the bench's
-  // box with duplicated parts, 735 s once w's last digits moved).
-  LpData lp = equilibrium_lp(sys, u * (1 + 1e-6) + 1e-6, 1.0 / kMaxFrictionLoad, kInfinity);
+  // box with duplicated parts, 735 s once w's last digits moved). Even at 1e-6 a mutated
+  // IslandHopper (C_M 71.599 gf, u = 8e-4; found by tools/fuzz.sh) took 95 s, at 1e-4 1.3 s: the
+  // bound is u + 1e-4 (relative and in units of T), so a capacity is exact to 1e-4 T (0.007 gf),
+  // far inside the heat map's colour bands.
+  LpData lp = equilibrium_lp(sys, u * (1 + 1e-4) + 1e-4, 1.0 / kMaxFrictionLoad, kInfinity);
   lp.quadratic_diagonal.assign(lp.columns(), 0.0);
   for (int j = 0; j < sys.friction_columns; ++j) lp.quadratic_diagonal[j] = 1.0;
   LpSolution s = solve_lp(lp, LpMethod::PrimalSimplex, false, o.scaling, o.max_seconds);

@@ -356,6 +356,36 @@ TEST(Brickcheck, ADeviceIsRefusedAndAPipeIsRead) {
   EXPECT_NE(r.out.find("STABLE"), std::string::npos) << r.out;
 }
 
+// Found by tools/fuzz.sh: IslandHopper with two parts replaced (C_M 71.599 gf, so friction is
+// bounded by 8e-4 T in the heat map's QP) took Clp's QP 95 s, past brickcheck's own time limit,
+// which its quadratic simplex did not heed. `timeout` makes a relapse a failure here, not a wait.
+TEST(BrickcheckSharedDetail, TheHeatMapOfANearlyPerfectModelComesOutAtOnce) {
+  SKIP_WITHOUT_SHARED();
+  std::ifstream in(test::shared_dir() / "ldraw-models" / "5935-1-IslandHopper.mpd");
+  std::string text(std::istreambuf_iterator<char>(in), {});
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  };
+  replace("1 6 170 -96 -40 0 0 -1 0 1 0 1 0 0 2412b.dat",
+          "1 6 170 -96 -40 0 0 -1 0 1 0 1 0 0 P\\STUD.DAT");
+  replace("1 7 -50 -88 100 0 0 1 0 1 0 -1 0 0 2431.dat",
+          "1 7 -50 -88 100 0 0 1 0 1 0 -1 0 0 /dev/zero");
+  const fs::path model = scratch("hopper.mpd"), heat = scratch("hopper-heat.ldr");
+  std::ofstream(model, std::ios::binary) << text;
+  fs::remove(heat);
+  auto r = run_tool("brickcheck",
+                    {"--json", "--ldraw-dir", (test::shared_dir() / "ldraw-library").string(),
+                     "--heatmap", heat.string(), model.string()},
+                    "OPENBLAS_NUM_THREADS=1 timeout 60");
+  ASSERT_EQ(r.exit_code, 1) << r.err;  // its propeller floats
+  json j = json::parse(r.out);
+  EXPECT_NEAR(j["cm_gf"].get<double>(), 71.599, 1e-3);
+  EXPECT_TRUE(j["lp"]["solver_note"].is_null()) << j["lp"]["solver_note"];  // capacity computed
+  EXPECT_TRUE(fs::exists(heat));
+}
+
 TEST(Brickcheck, TheHeatMapIsTheSameWhateverTheThreads) {
   // Same input, same bytes (issue 19: the colours changed with the BLAS's and OpenMP's threads).
   for (const fs::path& model :
