@@ -300,6 +300,12 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshOptions& options) {
       t.texture = texture;
       for (int k = 0; k < 3; ++k) {
         const unsigned vi = f.mIndices[k];
+        // Assimp passes indices on as the file gives them (found by tools/fuzz.sh under ASan: a
+        // PLY with more vertex lines than its header counts read a face's 139 in 3 vertices).
+        if (vi >= m->mNumVertices)
+          throw InputError(path.string(), 0,
+                           fmt::format("a face names vertex {} of a mesh with {} vertices", vi,
+                                       m->mNumVertices));
         if (texture >= 0) t.uv[k] = {m->mTextureCoords[0][vi].x, m->mTextureCoords[0][vi].y};
         t.v[k] = to_y_up(m->mVertices[vi], up);
         if (!std::isfinite(t.v[k].x) || !std::isfinite(t.v[k].y) || !std::isfinite(t.v[k].z))

@@ -780,5 +780,23 @@ TEST(Legolize, ASliverLongerThanAnyModelIsRefused) {
   EXPECT_NE(sized.exit_code, 2) << sized.err;
 }
 
+// Found by tools/fuzz.sh under AddressSanitizer: a PLY with more vertex lines than its header
+// counts, so that a vertex line is read as a face naming vertex 139 of 3. Assimp passes the index
+// on; reading it was a heap overflow.
+TEST(Legolize, AFaceNamingAVertexThatIsNotThereIsAnError) {
+  const fs::path ply = scratch("overflow.ply"), out = scratch("overflow.ldr");
+  fs::remove(out);
+  std::ofstream(ply) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                        "property float y\nproperty float z\nproperty uchar red\n"
+                        "property uchar green\nproperty uchar blue\nelement face 1\n"
+                        "property list uchar int vertex_indices\nend_header\n"
+                        "0 0 0 15 178 202\n0 0 0 15 178 202\n0 0 0 15 178 202\n"
+                        "10 0 0 5 139 136\n0 9.999999999999999e-06 0 197 14 51\n3 0 1 2\n";
+  auto run = run_tool("legolize", {ply.string(), "-o", out.string(), "--height", "3", "--quiet"});
+  EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
+  EXPECT_NE(run.err.find("a face names vertex"), std::string::npos) << run.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 }  // namespace
 }  // namespace lego
