@@ -49,13 +49,22 @@ LpData equilibrium_lp(const EquilibriumSystem& sys, double friction_upper, doubl
   return lp;
 }
 
-LpData scaled_lp(const EquilibriumSystem& sys, double support_bound, double cap) {
-  LpData lp = equilibrium_lp(sys, 1.0, 0.0, support_bound);
+namespace {
+
+// The load −b/T as a column in [0, cap] priced −1: maximizing it is the scale of the load carried.
+void add_load_column(LpData& lp, const EquilibriumSystem& sys, double cap) {
   std::vector<std::pair<int, double>> entries;
   for (int row = 0; row < sys.rows; ++row)
     if (sys.rhs[size_t(row)] != 0)
       entries.emplace_back(row, -sys.rhs[size_t(row)] / kMaxFrictionLoad);
   lp.add_column(0, cap, -1, entries);
+}
+
+}  // namespace
+
+LpData scaled_lp(const EquilibriumSystem& sys, double support_bound, double cap) {
+  LpData lp = equilibrium_lp(sys, 1.0, 0.0, support_bound);
+  add_load_column(lp, sys, cap);
   return lp;
 }
 
@@ -63,24 +72,15 @@ LpData frictionless_lp(const EquilibriumSystem& sys, double support_bound) {
   const LpData all = equilibrium_lp(sys, 1.0, 0.0, support_bound);
   LpData lp;
   lp.rows = all.rows;
-  lp.start.assign(1, 0);
-  for (int j = sys.friction_columns; j < all.columns(); ++j) {
-    for (int k = all.start[size_t(j)]; k < all.start[size_t(j) + 1]; ++k) {
-      lp.index.push_back(all.index[size_t(k)]);
-      lp.value.push_back(all.value[size_t(k)]);
-    }
-    lp.start.push_back(int(lp.index.size()));
-    lp.col_lower.push_back(all.col_lower[size_t(j)]);
-    lp.col_upper.push_back(all.col_upper[size_t(j)]);
-    lp.objective.push_back(0);
-  }
   lp.row_lower = all.row_lower;
   lp.row_upper = all.row_upper;
-  std::vector<std::pair<int, double>> entries;
-  for (int row = 0; row < sys.rows; ++row)
-    if (sys.rhs[size_t(row)] != 0)
-      entries.emplace_back(row, -sys.rhs[size_t(row)] / kMaxFrictionLoad);
-  lp.add_column(0, 1, -1, entries);
+  for (int j = sys.friction_columns; j < all.columns(); ++j) {
+    std::vector<std::pair<int, double>> entries;
+    for (int k = all.start[size_t(j)]; k < all.start[size_t(j) + 1]; ++k)
+      entries.emplace_back(all.index[size_t(k)], all.value[size_t(k)]);
+    lp.add_column(all.col_lower[size_t(j)], all.col_upper[size_t(j)], 0, entries);
+  }
+  add_load_column(lp, sys, 1);
   return lp;
 }
 
