@@ -19,6 +19,7 @@
 #include "core/brick_catalog.h"
 #include "core/error.h"
 #include "core/lattice.h"
+#include "core/stopwatch.h"
 #include "core/text.h"
 #include "layout/build_order.h"
 #include "layout/pieces.h"
@@ -45,9 +46,6 @@ constexpr int kUncolouredColor = 71;  // Light Bluish Grey: surfaces the mesh gi
 constexpr int kExitUnstable = 1, kExitBadInput = 2, kExitUndecided = 4;
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 voxel::Palette parse_palette(const std::string& spec) {
   const auto& table = ldraw::ColorTable::standard();
@@ -161,7 +159,7 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
     for (const auto& e : exceeded) words += "\n  " + e;
     throw InputError("", 0, "impossible limits: the model needs more bricks than allowed:" + words);
   }
-  out.seconds_initialize = since(t);
+  out.seconds_initialize = seconds_since(t);
   s.stage(fmt::format("initialized: {} bricks, {} component{} ({} at first{})", lay.brick_count(),
                       out.connect.components, out.connect.components == 1 ? "" : "s",
                       out.pieces_before,
@@ -188,7 +186,7 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
         out.refined.iterations, out.refined.accepted, out.refined.lp_solves,
         out.refined.rejected_by_bound, out.refined.bound_seconds));
   }
-  out.seconds_refine = since(t);
+  out.seconds_refine = seconds_since(t);
   out.la = layout::to_assembly(lay, *s.catalog, s.refine.inside_color, s.refine.loads);
   if (!refining) {
     out.refined.initial = out.refined.final =
@@ -212,7 +210,7 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
   for (size_t k = 0; k < moved.size(); ++k) layout_id[k] = out.la.layout_id[size_t(moved[k])];
   out.la.layout_id = std::move(layout_id);
   out.steps_stand = !s.order.analyse || out.order.all_stand();
-  out.seconds_order = since(t);
+  out.seconds_order = seconds_since(t);
   s.stage(s.order.analyse
               ? fmt::format("build order: {} steps, {}; smallest step C_M {}; {} analyses, "
                             "{:.2f} s",
@@ -378,7 +376,7 @@ int main(int argc, char** argv) {
 
   const auto start = Clock::now();
   auto stage = [&](const std::string& words) {
-    if (!quiet) std::cerr << fmt::format("legolize [{:7.2f} s] {}\n", since(start), words);
+    if (!quiet) std::cerr << fmt::format("legolize [{:7.2f} s] {}\n", seconds_since(start), words);
   };
   report::ConversionReport rep;
   rep.input = input;
@@ -442,7 +440,7 @@ int main(int argc, char** argv) {
       std::cerr << "legolize: warning: " << w << "\n";
       rep.warnings.push_back(w);
     }
-    rep.seconds.emplace_back("mesh", since(t));
+    rep.seconds.emplace_back("mesh", seconds_since(t));
     t = Clock::now();
     voxel::VoxelGrid grid = voxel::voxelize(m, vo);
     if (!solid) voxel::hollow(grid, shell);
@@ -450,7 +448,7 @@ int main(int argc, char** argv) {
     const layout::Target target = layout::target_from_voxels(grid, palette);
     rep.voxels = {grid.width, grid.height, grid.depth};
     rep.voxels_filled = target.filled();
-    rep.seconds.emplace_back("voxelize", since(t));
+    rep.seconds.emplace_back("voxelize", seconds_since(t));
     stage(fmt::format("{} x {} x {} voxels, {} kept; up is {}", grid.width, grid.height, grid.depth,
                       rep.voxels_filled, m.up));
     if (rep.voxels_filled == 0) throw InputError(input, 0, "the mesh leaves no voxel to build");
@@ -485,8 +483,8 @@ int main(int argc, char** argv) {
         files.emplace_back(bricklink,
                            report::bricklink_xml(parts, report::BrickLinkMap::standard()));
       if (heat_maps) heat_maps(files);
-      rep.seconds.emplace_back("output", since(t));
-      rep.seconds.emplace_back("total", since(start));
+      rep.seconds.emplace_back("output", seconds_since(t));
+      rep.seconds.emplace_back("total", seconds_since(start));
       if (!report_path.empty()) files.emplace_back(report_path, report_json(rep));
       ldraw::write_files_atomically(files);
       if (instructions.empty()) return;
@@ -561,13 +559,13 @@ int main(int argc, char** argv) {
     settings.connect.ground_connects = settings.refine.ground_connects = true;
     auto last = Clock::now();
     settings.connect.progress = [&](int iteration, int components, int fails) {
-      if (quiet || since(last) < 0.5) return;
+      if (quiet || seconds_since(last) < 0.5) return;
       last = Clock::now();
       stage(fmt::format("initialize: iteration {}, {} components, fail count {}", iteration,
                         components, fails));
     };
     settings.refine.progress = [&](const layout::RefineProgress& p) {
-      if (quiet || since(last) < 0.5) return;
+      if (quiet || seconds_since(last) < 0.5) return;
       last = Clock::now();
       stage(fmt::format("refine: iteration {}, C_M {}, fail count {}, {} accepted", p.iteration,
                         cm_words(p.cm_gf), p.fail_count, p.accepted));
@@ -592,7 +590,7 @@ int main(int argc, char** argv) {
           settings.refine.loads.at_voxels.push_back(l);
         }
       settings.order.progress = [&](int step, int placed, double seconds) {
-        if (quiet || since(last) < 0.5) return;
+        if (quiet || seconds_since(last) < 0.5) return;
         last = Clock::now();
         stage(fmt::format("build order: step {}, {} bricks placed ({:.1f} s)", step, placed,
                           seconds));
@@ -703,7 +701,7 @@ int main(int argc, char** argv) {
                              rep.stable    ? "stable"
                              : rep.decided ? "UNSTABLE"
                                            : "UNDECIDED",
-                             rep.iterations, rep.accepted, since(start));
+                             rep.iterations, rep.accepted, seconds_since(start));
     if (!rep.solver_note_final.empty())
       std::cout << fmt::format("solver: {} ({})\n", rep.solver_final, rep.solver_note_final);
     if (!rep.stable) std::cout << "weakest: " << rep.bottleneck << "\n";

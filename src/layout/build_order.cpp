@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "core/stopwatch.h"
 #include "physics/contact_graph.h"
 #include "physics/interior_point.h"
 
@@ -20,10 +21,6 @@ namespace {
 // Steps that fall one after another are beyond holding bricks back (a spider's legs leaning out
 // until the body ties them): past this many, the rest are analysed but not repaired.
 constexpr int kStopRepairingAfter = 3;
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // The model as it stands after a step: the bricks placed so far, in the assembly's order.
 Assembly partial_assembly(const Assembly& whole, const std::vector<char>& in,

@@ -5,6 +5,7 @@
 #include <limits>
 #include <thread>
 
+#include "core/stopwatch.h"
 #include "layout/components.h"
 #include "layout/reconfigure.h"
 #include "physics/interior_point.h"
@@ -94,19 +95,18 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
   int fails = 0;
   auto report = [&] {
     if (!options.progress) return;
-    options.progress(
-        RefineProgress{.iteration = out.iterations,
-                       .accepted = out.accepted,
-                       .fail_count = fails,
-                       .lp_solves = out.lp_solves,
-                       .cm_gf = cm,
-                       .seconds = std::chrono::duration<double>(Clock::now() - start).count()});
+    options.progress(RefineProgress{.iteration = out.iterations,
+                                    .accepted = out.accepted,
+                                    .fail_count = fails,
+                                    .lp_solves = out.lp_solves,
+                                    .cm_gf = cm,
+                                    .seconds = seconds_since(start)});
   };
   const int per_round = std::max(1, options.candidates_per_round);
   const bool side_by_side = options.side_by_side && per_round > 1;
   const physics::OneBlasThreadEach blas_threads(side_by_side);
   while (!(cm > options.min_cm_gf) && fails < options.fail_max && !current.critical.empty()) {
-    if (std::chrono::duration<double>(Clock::now() - start).count() > options.max_seconds) {
+    if (seconds_since(start) > options.max_seconds) {
       out.out_of_time = true;
       break;
     }

@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "core/lattice.h"
+#include "core/stopwatch.h"
 
 namespace lego::parts {
 namespace {
@@ -48,7 +49,7 @@ const PartKnowledge* PartLibrary::derive(
     out = k.get();
     known.emplace(file.key, std::move(k));
   }
-  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  seconds_ += seconds_since(start);
   return out;
 }
 

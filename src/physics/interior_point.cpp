@@ -11,6 +11,7 @@
 #include <limits>
 #include <mutex>
 
+#include "core/stopwatch.h"
 #include "physics/normal_equations.h"
 
 namespace lego::physics {
@@ -191,10 +192,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
 
     long cg_steps = 0, factorizations = 0;
     double factor_seconds = 0, solve_seconds = 0;  // for the trace
-    auto since = [](std::chrono::steady_clock::time_point t) {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-    };
-    if (trace) fmt::print(stderr, "setup {:.3f}s\n", since(entry));
+    if (trace) fmt::print(stderr, "setup {:.3f}s\n", seconds_since(entry));
     // The best point so far: on degenerate models the linear algebra can lose its accuracy near
     // the optimum (the normal matrix nearly singular), and the residual then only grows.
     double best_worst = std::numeric_limits<double>::infinity();
@@ -268,7 +266,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
         const auto t = std::chrono::steady_clock::now();
         factor.analyse(normal.form(theta, 0.0));
         analysed = true;
-        if (trace) fmt::print(stderr, "    analyse {:.3f}s\n", since(t));
+        if (trace) fmt::print(stderr, "    analyse {:.3f}s\n", seconds_since(t));
       }
       // The equations are often dependent (a brick held at one point has a torque row that
       // repeats its force rows), so A·Θ·Aᵀ is only semi-definite. Regularize each row relative to
@@ -287,8 +285,8 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
         ++factorizations;
         const auto t = std::chrono::steady_clock::now();
         const bool factored = factor.factorize(normal.form(theta, epsilon), A_dense, theta_dense);
-        factor_seconds += since(t);
-        if (trace) fmt::print(stderr, "    form and factor {:.3f}s\n", since(t));
+        factor_seconds += seconds_since(t);
+        if (trace) fmt::print(stderr, "    form and factor {:.3f}s\n", seconds_since(t));
         if (factored) break;
         if (epsilon > 1e-5) {
           result.message =
@@ -371,7 +369,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
                      .cwiseProduct(has_up);
       direction(rl_c, ru_c, kCorrectorAccuracy, dx, dy, dzl, dzu);
       steps(dx, dzl, dzu, ap, ad);
-      solve_seconds += since(solves_start);
+      solve_seconds += seconds_since(solves_start);
       ap = std::min(1.0, 0.995 * ap);
       ad = std::min(1.0, 0.995 * ad);
       if (trace) {

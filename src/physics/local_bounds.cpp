@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 
+#include "core/stopwatch.h"
 #include "physics/scaled_lp.h"
 
 namespace lego::physics {
@@ -124,7 +125,7 @@ CmBounds bound_cm_locally(const Assembly& before, const StabilityResult& before_
   const auto start = std::chrono::steady_clock::now();
   CmBounds out;
   auto finish = [&]() -> CmBounds {
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.seconds = seconds_since(start);
     return out;
   };
   for (const Assembly* a : {&before, &after}) {

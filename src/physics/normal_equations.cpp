@@ -1,4 +1,5 @@
 #include "physics/normal_equations.h"
+#include "core/stopwatch.h"
 
 #include <dlfcn.h>
 #include <fmt/format.h>
@@ -204,8 +205,7 @@ std::vector<char> dependent_rows(const SpMat& A) {
             cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, factor, &common);
   if (std::getenv("LEGO_IPM_TRACE"))
     fmt::print(stderr, "dependent rows: analyse {:.3f}s factor {:.3f}s\n",
-               std::chrono::duration<double>(t1 - t0).count(),
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count());
+               std::chrono::duration<double>(t1 - t0).count(), seconds_since(t1));
   if (ok) {
     const auto* column = static_cast<const int*>(factor->p);
     const auto* values = static_cast<const double*>(factor->x);

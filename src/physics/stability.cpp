@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 
+#include "core/stopwatch.h"
 #include "physics/clp_lp.h"
 #include "physics/scaled_lp.h"
 
@@ -18,10 +19,6 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // trusting 1/w: an infeasible model shows up as w* = 0 up to the solver's tolerance.
 constexpr double kConfirmBelow = 1e-3;
 constexpr double kZeroScale = 1e-6;
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 void rank_weakest(const EquilibriumSystem& sys, const ContactGraph& g,
                   const std::vector<double>& duals, StabilityResult& r) {

@@ -9,16 +9,13 @@
 #include <thread>
 
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "ldraw/writer.h"
 #include "physics/interior_point.h"
 #include "physics/world_shape.h"
 
 namespace lego::report {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 physics::StabilityOptions with_capacity(physics::StabilityOptions o, bool capacity) {
   o.brick_capacity = capacity;

@@ -17,6 +17,7 @@
 #include <functional>
 #include <map>
 
+#include "core/stopwatch.h"
 #include "layout/build_order.h"
 #include "layout/pieces.h"
 #include "layout/reconfigure.h"
@@ -33,10 +34,6 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());

@@ -25,6 +25,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "ldraw_mutator.h"
 #include "mesh_mutator.h"
 #include "report/audit.h"
@@ -36,10 +37,6 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
