@@ -189,13 +189,14 @@ bool carry_resting_unbalanced(Audit& audit) {
   const auto& c = r.connectivity;
   std::vector<char> anchored(size_t(c.component_count), 0);
   auto ground = [&](int b) { return b == physics::kGround || r.graph.fixed[size_t(b)]; };
-  for (const auto& contact : r.graph.contacts)
-    if (contact.snap() || contact.joint) {
-      if (ground(contact.lower) && !ground(contact.upper))
-        anchored[size_t(c.component[size_t(contact.upper)])] = 1;
-      if (ground(contact.upper) && !ground(contact.lower))
-        anchored[size_t(c.component[size_t(contact.lower)])] = 1;
-    }
+  // Snapped or joined to the ground or a fixed part, or standing on it: a model that tips over on
+  // the table (a car on its tyres) has no equilibrium, it is not a part resting out of place.
+  for (const auto& contact : r.graph.contacts) {
+    if (ground(contact.lower) && !ground(contact.upper))
+      anchored[size_t(c.component[size_t(contact.upper)])] = 1;
+    if ((contact.snap() || contact.joint) && ground(contact.upper) && !ground(contact.lower))
+      anchored[size_t(c.component[size_t(contact.lower)])] = 1;
+  }
   std::vector<char> resting(size_t(c.component_count), 0);
   bool any = false;
   for (int b : r.unbalanced)
