@@ -546,27 +546,29 @@ TEST(BrickcheckSharedDetail, CopiesOfAPartInOnePlaceAreLeftOutNamingTheFirst) {
   EXPECT_EQ(j["skipped"].size(), 99999u);
 }
 
+// brickcheck --json on a Datsville model of ../shared/ldraw-corpus, with the shared library.
+json check_datsville(const std::string& model, int expected_exit) {
+  return check_json({"--ldraw-dir", (test::shared_dir() / "ldraw-library").string(),
+                     (test::shared_dir() / "ldraw-corpus" / "datsville" / model).string()},
+                    expected_exit);
+}
+
 // Real buildings the interior point method once crawled through (docs/stability-lp.md,
 // 2026-12-01): the safe house needs no friction at all (C_M = T) and took 242 iterations, the fire
 // company 119 with μ long vanished; the mosque was "solved" with C_M = -inf.
 TEST(BrickcheckCorpus, TheSolverDoesNotCrawlOnRealBuildings) {
   SKIP_WITHOUT_SHARED();
-  auto check = [](const std::string& model, int expected_exit) {
-    return check_json({"--ldraw-dir", (test::shared_dir() / "ldraw-library").string(),
-                       (test::shared_dir() / "ldraw-corpus" / "datsville" / model).string()},
-                      expected_exit);
-  };
-  json safe_house = check("building_013_safehouse.ldr", 0);
+  json safe_house = check_datsville("building_013_safehouse.ldr", 0);
   EXPECT_EQ(safe_house["cm_gf"], 71.658);
   EXPECT_LE(safe_house["lp"]["iterations"], 60);
   EXPECT_EQ(safe_house["lp"]["solver"], "interior point");
-  json fire_company = check("building_007_firecompany.mpd", 1);
+  json fire_company = check_datsville("building_007_firecompany.mpd", 1);
   EXPECT_NEAR(fire_company["cm_gf"].get<double>(), 68.744, 1e-3);
   EXPECT_LE(fire_company["lp"]["iterations"], 60);
   EXPECT_EQ(fire_company["lp"]["solver"], "interior point");
   // Clp's dual simplex finds no w > 0; a diagnosis whose equations are off by a quarter of a
   // weight must not turn that into "solved" at C_M = T·(1 − 1/0).
-  json mosque = check("building_039_tanmosque.mpd", 1);
+  json mosque = check_datsville("building_039_tanmosque.mpd", 1);
   EXPECT_EQ(mosque["status"], "no equilibrium") << mosque["cm_gf"];
 }
 
@@ -574,14 +576,9 @@ TEST(BrickcheckCorpus, TheSolverDoesNotCrawlOnRealBuildings) {
 // short of that diagnosis on every such model of the corpus; Clp's primal simplex then answers.
 TEST(BrickcheckCorpus, NoEquilibriumNamesWhatTips) {
   SKIP_WITHOUT_SHARED();
-  auto check = [](const std::string& model, int expected_exit) {
-    return check_json({"--ldraw-dir", (test::shared_dir() / "ldraw-library").string(),
-                       (test::shared_dir() / "ldraw-corpus" / "datsville" / model).string()},
-                      expected_exit);
-  };
   // A bulldozer on its tyres stays analysed: it stands on the table, it does not rest out of
   // place. Its hinge plate (4276b, line 26) is what nothing holds.
-  json bulldozer = check("vehicle_073_bulldozer.ldr", 1);
+  json bulldozer = check_datsville("vehicle_073_bulldozer.ldr", 1);
   EXPECT_EQ(bulldozer["status"], "no equilibrium");
   EXPECT_GT(bulldozer["bricks"].get<int>(), 20);
   ASSERT_EQ(bulldozer["unbalanced"].size(), 1u) << bulldozer["unbalanced"];
@@ -589,7 +586,7 @@ TEST(BrickcheckCorpus, NoEquilibriumNamesWhatTips) {
   EXPECT_EQ(bulldozer["unbalanced"][0]["line"], 26);
   // Named, the hangar's two doors (bricks on their sides, snapped to nothing that stands) are
   // carried as resting parts, and the rest gets its C_M.
-  json hangar = check("building_088_fighterjethangar.mpd", 0);
+  json hangar = check_datsville("building_088_fighterjethangar.mpd", 0);
   EXPECT_EQ(hangar["status"], "solved");
   int resting = 0;
   for (const auto& c : hangar["carried"])
