@@ -9,4 +9,10 @@ inline double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// What is left of `budget` seconds counted from `start` (0 once spent).
+inline double seconds_left(std::chrono::steady_clock::time_point start, double budget) {
+  const double left = budget - seconds_since(start);
+  return left > 0 ? left : 0;
+}
+
 }  // namespace lego

@@ -1,5 +1,4 @@
 #include "physics/normal_equations.h"
-#include "core/stopwatch.h"
 
 #include <dlfcn.h>
 #include <fmt/format.h>
@@ -11,6 +10,8 @@
 #include <cstdlib>
 #include <mutex>
 #include <numeric>
+
+#include "core/stopwatch.h"
 
 namespace lego::physics {
 namespace {

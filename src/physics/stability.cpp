@@ -151,7 +151,7 @@ void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, Stabi
     return;
   }
   if (w < kConfirmBelow) {
-    const auto bodies = unbalanced_bodies(sys, std::max(0.0, o.max_seconds - seconds_since(start)));
+    const auto bodies = unbalanced_bodies(sys, seconds_left(start, o.max_seconds));
     // A w at the solver's tolerance of zero is its word that nothing balances: a friction a
     // million times T is no equilibrium either, even where the diagnosis (friction unlimited)
     // balances every body with it (the corpus's mosque; its C_M was once printed as -inf).
@@ -207,7 +207,7 @@ void solve_max_min(const EquilibriumSystem& sys, const StabilityOptions& o, Stab
   if (s.outcome == LpOutcome::Infeasible) {
     r.status = StabilityStatus::NoEquilibrium;
     r.message = "no force distribution balances every brick";
-    if (auto bodies = unbalanced_bodies(sys, std::max(0.0, o.max_seconds - seconds_since(start))))
+    if (auto bodies = unbalanced_bodies(sys, seconds_left(start, o.max_seconds)))
       for (size_t i = 0; i < sys.body_of.size(); ++i)
         if (std::binary_search(bodies->begin(), bodies->end(), sys.body_of[i]))
           r.unbalanced.push_back(int(i));
