@@ -1,6 +1,8 @@
 #pragma once
 // A primal-dual interior point method (Mehrotra's predictor-corrector) for
-//   min c·x  s.t.  A·x = b,  l ≤ x ≤ u   (every l finite; u may be infinite)
+//   min c·x + ½·Σ q_j·x_j²  s.t.  A·x = b,  l ≤ x ≤ u   (every l finite; u may be infinite; q ≥ 0)
+// An LP when q is empty; a diagonal q adds itself to the diagonal the normal equations scale by,
+// so a separable convex QP costs what the LP of the same matrix costs.
 // with A sparse but for a few dense columns, which are kept out of the sparse normal equations
 // A·Θ·Aᵀ (they would make it dense) and brought back as rank-one updates of its factor, with
 // conjugate gradients on the true matrix (normal_equations.h). CHOLMOD factors them. Rows that
@@ -16,6 +18,7 @@ struct IpmProblem {
   std::vector<int> start{0}, index;  // column-major
   std::vector<double> value;
   std::vector<double> c, b, lower, upper;
+  std::vector<double> q;  // the quadratic term's diagonal, ≥ 0; empty for an LP
   int columns() const { return int(c.size()); }
 };
 
@@ -33,6 +36,13 @@ struct IpmOptions {
   // of w's relative error, so 1e-8 keeps C_M well inside the 1e-6 the analysis promises.
   double tolerance = 1e-8;
   int max_iterations = 120;
+  // The worst relative residual or gap a run that could not reach its tolerance may still end at,
+  // with its best point: C_M inherits about that relative error, inside the 1e-6 the analysis
+  // promises.
+  double acceptable = 1e-6;
+  // Stop when the best point has not halved its worst residual or gap in this many iterations
+  // (0: never); the run then ends as one that could not reach its tolerance.
+  int patience = 0;
   // What the duality gap is measured against, given the primal objective: 1 + |objective| when
   // empty. A caller that needs less of the objective than its own relative accuracy says so here.
   std::function<double(double objective)> gap_scale;

@@ -94,6 +94,7 @@ LpSolution solve_interior(const LpData& lp, const IpmOptions& options) {
   p.b = lp.row_lower;
   p.lower = lp.col_lower;
   p.upper = lp.col_upper;
+  p.q = lp.quadratic_diagonal;
   IpmResult r = solve_interior_point(p, options);
   LpSolution s;
   s.iterations = r.iterations;

@@ -59,6 +59,9 @@ struct LpStats {
   // Which solver gave the answer: "interior point", "Clp dual simplex", or "Clp dual simplex
   // after the interior point method" when ours failed and Clp took over (`message` says why).
   std::string solver;
+  // What gave the per-brick capacity (heat maps): "interior point", "Clp QP" (when the analysis is
+  // asked of Clp), or "the analysis's forces" when our method failed (`message` says why).
+  std::string capacity_solver;
   double graph_seconds = 0, build_seconds = 0, solve_seconds = 0, capacity_seconds = 0;
 };
 
