@@ -247,8 +247,7 @@ void brick_capacity(const Assembly& a, const EquilibriumSystem& sys, const Stabi
   // The objective is ½Σf² in units of T², well under 1: its gap is judged absolutely, to 1e-10.
   // A friction zero at the optimum with a zero multiplier (free to be zero) nears it only as the
   // square root of the gap: at the usual 1e-8, 1e-3 gf off on a hanging brick's columns, at
-  // 1e-10 6e-5 gf. At 1e-12 the method stalled near degenerate optima and fell back to Clp on
-  // every figure-7 bridge.
+  // 1e-10 6e-5 gf. At 1e-12 the method failed near degenerate optima, on every figure-7 bridge.
   IpmOptions ipm;
   ipm.gap_scale = [](double) { return 1e-2; };
   // A capacity is exact to 1e-4 T (above), so the method may end at its best point once that is
@@ -276,9 +275,9 @@ void brick_capacity(const Assembly& a, const EquilibriumSystem& sys, const Stabi
   if (s.outcome == LpOutcome::Optimal)
     return capacity_from([&](int j) { return kMaxFrictionLoad * s.x[size_t(j)]; });
   // Where our method fails, the analysis's own forces are a distribution that reaches C_M too,
-  // only not the least-norm one: shown, and said. Clp's QP was the fallback before: it took a
-  // minute to past five (ignoring its deadline) on the corpus's models where ours fails, and then
-  // often gave nothing (the fire company, the shopping centre).
+  // only not the least-norm one: shown, and said. Clp's QP is no fallback: on the corpus's models
+  // where ours fails it took a minute to past five (its deadline unheeded), and then often gave
+  // nothing (the fire company, the shopping centre).
   if (o.method == LpMethod::InteriorPoint && r.forces.size() == size_t(sys.columns())) {
     note(s.message + "; shown from the analysis's own forces, not the least-norm distribution");
     r.stats.capacity_solver = "the analysis's forces";
