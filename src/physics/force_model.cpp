@@ -64,12 +64,28 @@ class Builder {
   // A fixed force on a body, moved to the right-hand side.
   void load(int body, const Vec3& p, const Vec3& f) {
     const auto w = wrench(body, p, f);
-    for (int e = 0; e < 6; ++e) s_.rhs[size_t(EquilibriumSystem::row(body, e))] -= w[size_t(e)];
+    const double size = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    load_size_.resize(s_.rhs.size(), 0.0);
+    for (int e = 0; e < 6; ++e) {
+      const size_t row = size_t(EquilibriumSystem::row(body, e));
+      s_.rhs[row] -= w[size_t(e)];
+      load_size_[row] += size;
+    }
+  }
+  // The loads' moments have lever arms with the same roundoff as the columns', and loads may
+  // cancel: a row left with less than kNegligible (studs) times the forces loaded on its body
+  // has no load. Kept, it is an equation no force can meet where it has no variables (the
+  // corpus's tan mosque: a moment of 1.3e-15 on a plate's row without columns made the model
+  // "need" friction a million times T).
+  void drop_roundoff_loads() {
+    for (size_t row = 0; row < load_size_.size(); ++row)
+      if (std::abs(s_.rhs[row]) <= kNegligible * load_size_[row]) s_.rhs[row] = 0;
   }
 
  private:
   EquilibriumSystem& s_;
   std::vector<Vec3> centres_;
+  std::vector<double> load_size_;  // per row: the sum of |load| put on it
 
   // Force and moment about the body's centre of `f` applied at `p`.
   std::array<double, 6> wrench(int body, const Vec3& p, const Vec3& f) const {
@@ -224,6 +240,7 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
     const double share = 1.0 / double(points.size());
     for (const Vec3& p : points) b.load(body, p, {f[0] * share, f[1] * share, f[2] * share});
   }
+  b.drop_roundoff_loads();
   return s;
 }
 

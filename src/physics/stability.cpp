@@ -155,7 +155,8 @@ void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, Stabi
     const auto bodies = unbalanced_bodies(sys, seconds_left(start, o.max_seconds));
     // A w at the solver's tolerance of zero is its word that nothing balances: a friction a
     // million times T is no equilibrium either, even where the diagnosis (friction unlimited)
-    // balances every body with it (the corpus's mosque; its C_M was once printed as -inf).
+    // balances every body with it (the corpus's mosque was such a model while a moment of
+    // roundoff stood on a row no force reaches: force_model.cpp drops it now).
     if ((bodies && !bodies->empty()) || w < kZeroScale) {
       r.status = StabilityStatus::NoEquilibrium;
       r.message = "no force distribution balances every brick";
