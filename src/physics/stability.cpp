@@ -281,7 +281,7 @@ void brick_capacity(const Assembly& a, const EquilibriumSystem& sys, const Stabi
   // nothing (the fire company, the shopping centre).
   if (o.method == LpMethod::InteriorPoint && r.forces.size() == size_t(sys.columns())) {
     note(s.message + "; shown from the analysis's own forces, not the least-norm distribution");
-    r.stats.capacity_solver = "the analysis's forces";
+    r.stats.capacity_solver = kCapacityFromAnalysis;
     return capacity_from([&](int j) { return r.forces[size_t(j)]; });
   }
   r.brick_capacity.clear();

@@ -53,6 +53,10 @@ struct WeakContact {
   double share = 0;  // of the sum of all binding duals, 0..1
 };
 
+// LpStats::capacity_solver when the per-brick capacity shows the analysis's own forces: one
+// distribution that reaches C_M, not the least-norm one.
+inline constexpr const char* kCapacityFromAnalysis = "the analysis's forces";
+
 struct LpStats {
   int rows = 0, columns = 0, nonzeros = 0;
   int iterations = 0;
@@ -60,7 +64,7 @@ struct LpStats {
   // after the interior point method" when ours failed and Clp took over (`message` says why).
   std::string solver;
   // What gave the per-brick capacity (heat maps): "interior point", "Clp QP" (when the analysis is
-  // asked of Clp), or "the analysis's forces" when our method failed (`message` says why).
+  // asked of Clp), or kCapacityFromAnalysis when our method failed (`message` says why).
   std::string capacity_solver;
   double graph_seconds = 0, build_seconds = 0, solve_seconds = 0, capacity_seconds = 0;
 };

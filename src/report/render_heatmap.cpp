@@ -28,6 +28,10 @@ std::string legend(const physics::StabilityResult& r, const char* rest,
       "0 // Colours by the share of the friction limit T a brick's worst knob uses: red >= 100%\n"
       "0 // (overloaded), orange >= 50%, light orange >= 20%, yellow >= 5%, lime >= 0.5%,\n";
   out += rest;
+  if (r.stats.capacity_solver == physics::kCapacityFromAnalysis)
+    out +=
+        "0 // Capacities from the analysis's own forces: the least-norm distribution was not\n"
+        "0 // found, and these are one distribution that reaches C_M, not the unique one.\n";
   if (r.status == physics::StabilityStatus::Solved)
     out += fmt::format("0 // C_M = {:.3f} gf\n", r.cm_gf());
   for (size_t i = 0; i < r.weakest.size() && i < 5; ++i) {

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "app/run_tool.h"
+#include "core/brick_catalog.h"
 #include "core/stopwatch.h"
 #include "ldraw/reader.h"
 #include "report/render.h"
@@ -405,6 +406,26 @@ TEST(Brickcheck, TheHeatMapIsTheSameWhateverTheThreads) {
     }
     EXPECT_EQ(maps[0], maps[1]);
   }
+}
+
+// A heat map drawn from the analysis's own forces (our method did not find the least-norm
+// distribution) says so in its legend; the least-norm map does not.
+TEST(Brickcheck, HeatMapSaysWhereItsCapacitiesComeFrom) {
+  Assembly a;
+  Brick b;
+  b.type = BrickCatalog::standard().find("3001");
+  ASSERT_TRUE(b.type);
+  a.bricks.push_back(b);
+  physics::StabilityResult r;
+  r.status = physics::StabilityStatus::Solved;
+  r.cm = 0.5 * physics::kMaxFrictionLoad;
+  r.brick_capacity = {0.5 * physics::kMaxFrictionLoad};
+  auto describe = [](int i) { return std::to_string(i); };
+  const char* note = "0 // Capacities from the analysis's own forces";
+  r.stats.capacity_solver = "interior point";
+  EXPECT_EQ(report::render_heatmap(a, r, "t", "a", describe).find(note), std::string::npos);
+  r.stats.capacity_solver = physics::kCapacityFromAnalysis;
+  EXPECT_NE(report::render_heatmap(a, r, "t", "a", describe).find(note), std::string::npos);
 }
 
 TEST(Brickcheck, HeatColourScale) {
