@@ -1,6 +1,5 @@
 #include "physics/stability.h"
 
-#include <fmt/format.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -263,7 +262,8 @@ void brick_capacity(const Assembly& a, const EquilibriumSystem& sys, const Stabi
   ipm.max_iterations = 50;
   std::string unused;
   LpSolution s = solve_supports_boxed(make, o, unused, nullptr, false, ipm);
-  r.stats.capacity_solver = o.method == LpMethod::InteriorPoint ? "interior point" : "Clp QP";
+  r.stats.capacity_solver =
+      o.method == LpMethod::InteriorPoint ? method_name(LpMethod::InteriorPoint) : "Clp QP";
   auto capacity_from = [&](auto friction) {  // friction(j): column j's force, in g·m/s²
     for (int j = 0; j < sys.friction_columns; ++j) {
       int brick = r.graph.contacts[size_t(sys.contact[j])].upper;
