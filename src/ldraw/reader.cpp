@@ -80,6 +80,7 @@ struct Block {
   int first_line = 1;
   std::string title, name_meta, author, ldraw_org;
   bool seen_line = false;  // any line after the FILE line (for the title rule)
+  int drawn_lines = 0;     // type 2-5 lines: edges, triangles, quads
   std::vector<Entry> entries;
   size_t text_begin = 0, text_end = 0;
 
@@ -165,6 +166,7 @@ class Parser {
     if (implicit_ && type != "0") has_geometry_front_ = true;
     if (type == "1") return parse_reference(rest, line_no);
     if (type == "2" || type == "3" || type == "4" || type == "5") {
+      ++block().drawn_lines;
       size_t numbers = type == "2" ? 6 : type == "3" ? 9 : 12;
       std::string_view color = next_token(rest);
       if (!parse_color_code(color))
@@ -365,10 +367,7 @@ class Flattener {
     } else {
       check_main_model(doc);
     }
-    for (const Block& b : doc.blocks)
-      if (b.is_part())
-        model_.embedded_parts.emplace_back(
-            b.name, doc.text.substr(b.text_begin, b.text_end - b.text_begin));
+    register_embedded_parts(doc);
     model_.title = main->title;
     model_.name = main->name_meta;
     model_.author = main->author;
@@ -399,6 +398,7 @@ class Flattener {
   int step_ = 1;
   size_t step_start_ = 0;  // parts placed before the current step
   std::set<const Block*> placed_;
+  std::map<const Block*, bool> part_blocks_;
 
   int parts_in_step() const { return int(model_.parts.size() - step_start_); }
   void end_step(const std::string& rotstep) {
@@ -412,6 +412,46 @@ class Flattener {
     model_.diagnostics.push_back({s, doc.file, line, std::move(msg)});
   }
 
+  // The parts a document embeds, for the part library to read (those of a model file placed by
+  // the main model as well as the main file's own).
+  void register_embedded_parts(const Document& doc) {
+    for (const Block& b : doc.blocks)
+      if (is_part(doc, b))
+        model_.embedded_parts.emplace_back(
+            b.name, doc.text.substr(b.text_begin, b.text_end - b.text_begin));
+  }
+
+  // A FILE block is a part when its !LDRAW_ORG says so or, without one, when it draws only lines,
+  // primitives and subparts: an unofficial part pasted into an MPD (a printed torso, a patterned
+  // slope) places no part of its own, and its primitives are not parts of the model.
+  bool is_part(const Document& doc, const Block& b) {
+    if (!b.ldraw_org.empty()) return b.is_part();
+    if (auto it = part_blocks_.find(&b); it != part_blocks_.end()) return it->second;
+    bool draws = b.drawn_lines > 0, only_drawing = true;
+    for (const Entry& e : b.entries)
+      if (const auto* ref = std::get_if<RefLine>(&e)) {
+        draws = true;
+        only_drawing = only_drawing && draws_no_part(doc, ref->name);
+      }
+    return part_blocks_[&b] = draws && only_drawing;
+  }
+
+  // Whether `name` is drawing (a primitive or a subpart), not a part or a model.
+  bool draws_no_part(const Document& doc, const std::string& name) {
+    if (const Block* block = doc.find(name)) {
+      const std::string org = ascii_lower(block->ldraw_org);
+      return org.find("subpart") != std::string::npos || org.find("primitive") != std::string::npos;
+    }
+    const std::string reference = normalize_reference(name);
+    for (const char* folder : {"s/", "48/", "8/"})  // the library's subpart and primitive folders
+      if (reference.starts_with(folder)) return true;
+    for (const fs::path& lib : options_.library_dirs) {
+      for (const char* folder : {"p", "unofficial/p"})
+        if (finder_.find(lib / folder, reference)) return true;
+    }
+    return false;
+  }
+
   void check_main_model(const Document& doc) {
     if (doc.blocks.size() < 2) return;
     std::map<std::string, std::vector<std::string>> used_by;
@@ -423,7 +463,7 @@ class Flattener {
     auto it = used_by.find(normalize_reference(first.name));
     if (it == used_by.end()) return;
     for (const Block& b : doc.blocks) {
-      if (&b == &first || b.is_part() || used_by.count(normalize_reference(b.name))) continue;
+      if (&b == &first || is_part(doc, b) || used_by.count(normalize_reference(b.name))) continue;
       diag(Severity::Warning, doc, first.first_line,
            fmt::format("the main model '{}' (the first FILE) is used as a submodel by '{}', while "
                        "'{}' is used by nothing and may be the real main model",
@@ -458,6 +498,7 @@ class Flattener {
     }
     doc->text = std::move(*bytes);
     Parser(*doc, model_.diagnostics, model_.colors).parse();
+    register_embedded_parts(*doc);
     const Document* raw = doc.get();
     documents_.push_back(std::move(doc));
     external_[canonical] = raw;
@@ -517,7 +558,8 @@ class Flattener {
       }
     // 1. A block of the same MPD.
     if (const Block* target = doc.find(ref.name)) {
-      if (target->is_part()) return add_part(doc, ref, world, color, submodel, {}, target->name);
+      if (is_part(doc, *target))
+        return add_part(doc, ref, world, color, submodel, {}, target->name);
       return descend(doc, *target, ref, world, color);
     }
     // 2. A file next to the including file, then 3. the LDraw libraries.
@@ -525,6 +567,8 @@ class Flattener {
       if (header_says_part(*local)) return add_part(doc, ref, world, color, submodel, *local, {});
       const Document* sub = external_document(*local);
       if (!sub || sub->blocks.empty()) return;
+      if (is_part(*sub, sub->blocks.front()))
+        return add_part(doc, ref, world, color, submodel, *local, {});
       return descend(*sub, sub->blocks.front(), ref, world, color);
     }
     for (const fs::path& lib : options_.library_dirs) {

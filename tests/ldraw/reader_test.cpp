@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "ldraw/reader.h"
 #include "test_paths.h"
@@ -237,6 +238,41 @@ TEST(Reader, ResolvesLocalFilesAndLibrary) {
   EXPECT_EQ(m.parts[0].file, (dir / "Wing.LDR").string());
   EXPECT_EQ(m.parts[1].definition, dir / "custom.dat");
   EXPECT_EQ(m.parts[2].definition, dir / "lib" / "parts" / "3068b.dat");
+  fs::remove_all(dir);
+}
+
+// Datsville's figures and patterned slopes embed unofficial parts without an !LDRAW_ORG line:
+// a block drawn only from primitives and subparts is a part, not a submodel whose primitives
+// would be placed as parts of the model. A block that places a part stays a submodel.
+TEST(Reader, EmbeddedBlocksDrawnFromPrimitivesAreParts) {
+  auto dir = fs::temp_directory_path() / "lego_reader_embedded";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "lib" / "p");
+  fs::create_directories(dir / "lib" / "parts" / "s");
+  std::ofstream(dir / "lib" / "p" / "4-4disc.dat") << "0 Disc\n0 !LDRAW_ORG Primitive\n";
+  std::ofstream(dir / "lib" / "parts" / "s" / "973s01.dat") << "0 ~Torso\n";
+  std::ofstream(dir / "figure.mpd")
+      << "0 FILE figure.ldr\n0 Figure\n1 16 0 -72 0 1 0 0 0 1 0 0 0 1 973t03.dat\n"
+         "1 14 0 -96 0 1 0 0 0 1 0 0 0 1 badge.dat\n"
+         "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 stand.dat\n0 NOFILE\n"
+         "0 FILE 973t03.dat\n0 Torso with a print\n"
+         "1 16 0 0 0 1 0 0 0 1 0 0 0 1 s\\973s01.dat\n"
+         "1 14 0 19 -10 1 0 0 0 0 -1 0 1 0 4-4disc.dat\n0 NOFILE\n"
+         "0 FILE badge.dat\n3 16 0 0 0 1 0 0 0 0 1\n0 NOFILE\n"
+         "0 FILE stand.dat\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+         "1 16 0 0 0 1 0 0 0 1 0 0 0 1 4-4disc.dat\n0 NOFILE\n";
+  std::ofstream(dir / "main.ldr") << "0 Main\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 figure.mpd\n";
+  ReadOptions options;
+  options.library_dirs = {dir / "lib"};
+  Model m = read_file(dir / "main.ldr", options);
+  ASSERT_FALSE(m.has_errors());
+  std::vector<std::string> names;
+  for (const auto& p : m.parts) names.push_back(p.part);
+  EXPECT_EQ(names, (std::vector<std::string>{"973t03", "badge", "3001", "4-4disc"}));
+  EXPECT_EQ(m.parts[0].embedded_definition, "973t03.dat");
+  std::set<std::string> embedded;
+  for (const auto& [name, text] : m.embedded_parts) embedded.insert(name);
+  EXPECT_EQ(embedded, (std::set<std::string>{"973t03.dat", "badge.dat"}));
   fs::remove_all(dir);
 }
 
