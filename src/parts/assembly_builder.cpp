@@ -5,7 +5,10 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
+
+#include "core/lattice.h"
 
 namespace lego::parts {
 namespace {
@@ -14,6 +17,13 @@ namespace {
 constexpr double kRotationTolerance = 1e-2;
 // A rotation this close to a quarter turn (about a degree) is taken as that quarter turn.
 constexpr double kQuarterTurnTolerance = 2e-2;
+// LDraw editors nudge parts by one LDU: an upright part that far above or below the plates the
+// rest of the model shares (and no farther) is taken as on them, with a diagnostic, as a matrix
+// written with two decimals is taken as the rotation it is nearest to. Across, a part one LDU
+// off can be a SNOT assembly that is offset as a whole (the town hall's 4070s with their plates
+// on their sides): it is left where it is.
+constexpr double kPlateSlip = 1.0 + 1e-6;
+constexpr double kOnLattice = 1e-3;
 
 double dot3(const double* a, const double* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -112,6 +122,38 @@ std::optional<std::array<double, 9>> model_frame(const ldraw::Model& model) {
   return orthonormalized(*frame, kRotationTolerance);
 }
 
+namespace {
+
+// Where the model's plates lie: the height (LDU, in [0, 8)) modulo a plate that most upright
+// parts' origins share.
+double plate_offset(const ldraw::Model& model,
+                    const std::function<ldraw::Transform(const ldraw::Transform&)>& in_frame) {
+  std::map<long, int> votes;  // by hundredths of an LDU
+  for (const ldraw::PlacedPart& p : model.parts) {
+    const ldraw::Transform t = in_frame(p.transform);
+    if (std::abs(std::abs(t.rot[4]) - 1) > kQuarterTurnTolerance) continue;  // not upright
+    const double residue =
+        std::fmod(std::fmod(t.pos[1], kLduPerPlate) + kLduPerPlate, kLduPerPlate);
+    ++votes[std::lround(residue * 100) % std::lround(kLduPerPlate * 100)];
+  }
+  long best = 0;
+  int most = 0;
+  for (const auto& [residue, count] : votes)
+    if (count > most) most = count, best = residue;
+  return double(best) / 100;
+}
+
+// The height (LDU) that brings an origin at height `y` onto the model's plates when it lies off
+// them by at most kPlateSlip, else zero.
+double plate_slip(double y, double offset) {
+  double d = std::fmod(y - offset, kLduPerPlate);
+  if (d > kLduPerPlate / 2) d -= kLduPerPlate;
+  if (d < -kLduPerPlate / 2) d += kLduPerPlate;
+  return std::abs(d) > kOnLattice && std::abs(d) <= kPlateSlip ? -d : 0;
+}
+
+}  // namespace
+
 AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
                                const std::vector<size_t>& fixed_parts) {
   AssemblyConversion out;
@@ -140,6 +182,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     }
     return out_t;
   };
+  const double plates = plate_offset(model, in_frame);
   // The same part placed twice in one place (a common slip in LDraw editors, which draw one): the
   // copies are left out, each naming the first, so that they neither weigh nor collide.
   std::map<std::string, size_t> first_at;
@@ -185,6 +228,11 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     Pose pose;
     pose.rotation = turn ? *turn : rotation;
     pose.origin = placed.pos;
+    double slip = 0;
+    if (carried_reason.empty() && std::abs(std::abs(pose.rotation[4]) - 1) < 1e-9) {
+      slip = plate_slip(placed.pos[1], plates);
+      pose.origin[1] += slip;
+    }
     if (!carried_reason.empty()) {
       CarriedPart c;
       c.part = k->type.part;
@@ -201,6 +249,12 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
       out.carried_part.push_back(i);
       continue;
     }
+    if (slip != 0)
+      out.diagnostics.push_back(
+          {ldraw::Severity::Warning, p.file, p.line,
+           fmt::format("placed {:g} LDU {} the plates the model's other parts stand on: taken as "
+                       "on them",
+                       std::abs(slip), slip > 0 ? "above" : "below")});
     if (approximate)  // said where the verdict relies on it
       out.diagnostics.push_back(
           {ldraw::Severity::Warning, p.file, p.line,
