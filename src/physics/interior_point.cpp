@@ -403,8 +403,12 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
     if (!result.converged && best_worst <= options.acceptable) {
       x = best.x, y = best.y, zl = best.zl, zu = best.zu;
       result.converged = true;
-      result.message = fmt::format("converged to {:.1e} (not {:.0e}: {})", best_worst,
-                                   options.tolerance, result.message);
+      // Without a message the loop ran out of iterations.
+      const std::string why =
+          result.message.empty() ? fmt::format("the limit of {} iterations", options.max_iterations)
+                                 : result.message;
+      result.message =
+          fmt::format("converged to {:.1e} (not {:.0e}: {})", best_worst, options.tolerance, why);
     }
     if (trace)
       fmt::print(stderr,

@@ -395,6 +395,27 @@ TEST(ScaledLp, GapMeasuredByItsEffectOnCm) {
   EXPECT_GT(options.gap_scale(-551), 552) << "stiff models stop when C_M is exact";
 }
 
+// A run that ends at its iteration limit with its best point within `acceptable` says so: the
+// note once read "(not 1e-08: )".
+TEST(InteriorPoint, AnAcceptedBestPointNamesTheIterationLimit) {
+  IpmProblem lp;  // min −x₁ − x₂  s.t.  x₁ + x₂ + s = 1, all ≥ 0
+  lp.rows = 1;
+  lp.start = {0, 1, 2, 3};
+  lp.index = {0, 0, 0};
+  lp.value = {1, 1, 1};
+  lp.c = {-1, -1, 0};
+  lp.b = {1};
+  lp.lower = {0, 0, 0};
+  lp.upper.assign(3, std::numeric_limits<double>::infinity());
+  IpmOptions options;
+  options.max_iterations = 4;
+  options.acceptable = 1;  // four steps make it feasible, not yet optimal
+  const IpmResult r = solve_interior_point(lp, options);
+  ASSERT_TRUE(r.converged) << r.message;
+  EXPECT_NE(r.message.find("(not 1e-08: the limit of 4 iterations)"), std::string::npos)
+      << r.message;
+}
+
 TEST(ContactGraph, FrictionPointsFollowTheCavityShape) {
   Assembly a;
   add(a, "3004", 0, 0, 0);        // 1x2
