@@ -424,7 +424,10 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
         if (used[r]) b_used[u++] = p.b[r];
       if ((b_used - A_used * x).lpNorm<Eigen::Infinity>() / scale > 100 * options.tolerance) {
         result.converged = false;
-        result.message = "a row taken as dependent does not hold at the solution";
+        result.message = m < m_used
+                             ? "a row taken as dependent does not hold at the solution"
+                             : fmt::format("its best point meets the equations only to {:.1e}",
+                                           (b_used - A_used * x).lpNorm<Eigen::Infinity>() / scale);
       }
     }
     result.objective = c.dot(x) + 0.5 * x.dot(q.cwiseProduct(x));

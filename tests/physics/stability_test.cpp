@@ -396,7 +396,7 @@ TEST(ScaledLp, GapMeasuredByItsEffectOnCm) {
 }
 
 // A run that ends at its iteration limit with its best point within `acceptable` says so: the
-// note once read "(not 1e-08: )".
+// note once read "(not 1e-08: )". A best point refused by the final check names that check.
 TEST(InteriorPoint, AnAcceptedBestPointNamesTheIterationLimit) {
   IpmProblem lp;  // min −x₁ − x₂  s.t.  x₁ + x₂ + s = 1, all ≥ 0
   lp.rows = 1;
@@ -414,6 +414,14 @@ TEST(InteriorPoint, AnAcceptedBestPointNamesTheIterationLimit) {
   ASSERT_TRUE(r.converged) << r.message;
   EXPECT_NE(r.message.find("(not 1e-08: the limit of 4 iterations)"), std::string::npos)
       << r.message;
+  // One step fewer, the best point is within `acceptable` of optimal but not yet feasible to
+  // the final check's 1e-6: refused, and the note says so (it once blamed a dropped row, and
+  // no row was dropped).
+  options.max_iterations = 3;
+  const IpmResult early = solve_interior_point(lp, options);
+  EXPECT_FALSE(early.converged);
+  EXPECT_TRUE(early.message.starts_with("its best point meets the equations only to"))
+      << early.message;
 }
 
 TEST(ContactGraph, FrictionPointsFollowTheCavityShape) {
