@@ -28,7 +28,10 @@ struct CarriedPart {
   std::string mass_source;
   std::vector<Box> body;      // in its own frame (LDU)
   std::vector<Vec3> outline;  // PartShape::outline, or empty: the body's corners
-  Pose pose;                  // any rotation
+  // Its studs, in its own frame: they reach into what holds it (a dish on a bracket's side
+  // studs touches the bracket with them, its body a stud's length away).
+  std::vector<Connector> studs;
+  Pose pose;  // any rotation
 };
 
 // Bricks on the lattice plus what the physics needs besides them. Both front doors (LDraw files

@@ -243,6 +243,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
       c.mass_source = k->type.mass_source;
       c.body = k->type.shape.body;
       c.outline = k->type.shape.outline;
+      c.studs = k->type.shape.studs;
       if (!orthonormalized(placed.rot, kRotationTolerance)) pose.rotation = placed.rot;
       c.pose = pose;
       out.assembly.carried.push_back(std::move(c));

@@ -366,34 +366,34 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
           if (r.direction == kMinusY && on_ground(r.at[1]))
             meeting(kGround, i, kPlusY, ground_y).receptacles.push_back(r.at);
 
-  // Carried parts: grouped where they touch, joined to the bricks they touch.
+  // Carried parts: grouped where they touch, joined to the bricks they touch, by their bodies
+  // and their studs.
   const int carried = int(a.carried.size());
   if (carried > 0) {
+    std::vector<std::vector<OrientedBox>> reach = carried_boxes;
+    for (int c = 0; c < carried; ++c) {
+      const auto studs = world_stud_boxes(a.carried[size_t(c)], kKnobRimRadius);
+      reach[size_t(c)].insert(reach[size_t(c)].end(), studs.begin(), studs.end());
+    }
     DisjointSets groups(carried);
     BoxIndex carried_index;
     std::vector<int> carried_owner;
     for (int c = 0; c < carried; ++c)
-      for (const auto& o : carried_boxes[size_t(c)]) {
+      for (const auto& o : reach[size_t(c)]) {
         carried_index.add(o.bounds(), int(carried_owner.size()));
         carried_owner.push_back(c);
       }
     carried_index.finish();
     std::vector<int> box_of_carried(size_t(carried) + 1, 0);  // first box of each carried part
     for (int c = 0; c < carried; ++c)
-      box_of_carried[size_t(c) + 1] =
-          box_of_carried[size_t(c)] + int(carried_boxes[size_t(c)].size());
+      box_of_carried[size_t(c) + 1] = box_of_carried[size_t(c)] + int(reach[size_t(c)].size());
     // What a carried part rests on may be studs (a plant over a stud): they count as body here.
     BoxIndex stud_index;
     std::vector<Box> stud_boxes;
     std::vector<int> stud_owner;
     for (int i = 0; i < n; ++i)
       for (const Connector& k : shapes[size_t(i)].studs) {
-        Box b{k.at, k.at};
-        const int ax = axis_of(k.direction);
-        for (int other = 0; other < 3; ++other)
-          if (other != ax)
-            b.min[size_t(other)] -= kKnobRimRadius, b.max[size_t(other)] += kKnobRimRadius;
-        (sign_of(k.direction) > 0 ? b.max : b.min)[size_t(ax)] += 4 * sign_of(k.direction);
+        const Box b = stud_box(k, kKnobRimRadius);
         stud_index.add(b, int(stud_boxes.size()));
         stud_boxes.push_back(b);
         stud_owner.push_back(i);
@@ -401,14 +401,13 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
     stud_index.finish();
     std::vector<std::vector<int>> touched(static_cast<size_t>(carried));
     for (int c = 0; c < carried; ++c)
-      for (int k = 0; k < int(carried_boxes[size_t(c)].size()); ++k) {
-        const OrientedBox& o = carried_boxes[size_t(c)][size_t(k)];
+      for (int k = 0; k < int(reach[size_t(c)].size()); ++k) {
+        const OrientedBox& o = reach[size_t(c)][size_t(k)];
         const Box bounds = o.bounds();
         carried_index.near(bounds, kCarriedReach, [&](int other) {
           const int d = carried_owner[size_t(other)];
           if (d == c || groups.find(d) == groups.find(c)) return;
-          const OrientedBox& p =
-              carried_boxes[size_t(d)][size_t(other - box_of_carried[size_t(d)])];
+          const OrientedBox& p = reach[size_t(d)][size_t(other - box_of_carried[size_t(d)])];
           if (touch(o, p, kCarriedReach)) groups.join(c, d);
         });
         index.near(bounds, kCarriedReach, [&](int id) {

@@ -69,14 +69,16 @@ OrientedBox as_oriented(const Box& box) {
   return o;
 }
 
-std::vector<OrientedBox> world_boxes(const CarriedPart& part) {
+namespace {
+
+std::vector<OrientedBox> oriented_boxes(const Pose& pose, const std::vector<Box>& boxes) {
   std::vector<OrientedBox> out;
-  for (const Box& b : part.body) {
+  for (const Box& b : boxes) {
     OrientedBox o;
     Vec3 mid{(b.min[0] + b.max[0]) / 2, (b.min[1] + b.max[1]) / 2, (b.min[2] + b.max[2]) / 2};
-    o.centre = lattice_from_ldraw(part.pose.apply(mid));
+    o.centre = lattice_from_ldraw(pose.apply(mid));
     for (int k = 0; k < 3; ++k) {
-      Vec3 column{part.pose.rotation[k], part.pose.rotation[3 + k], part.pose.rotation[6 + k]};
+      Vec3 column{pose.rotation[k], pose.rotation[3 + k], pose.rotation[6 + k]};
       const double length = std::sqrt(dot(column, column));
       // A scaled placement scales the box; its axes stay unit vectors.
       o.half[k] = (b.max[k] - b.min[k]) / 2 * length;
@@ -87,6 +89,27 @@ std::vector<OrientedBox> world_boxes(const CarriedPart& part) {
     out.push_back(o);
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<OrientedBox> world_boxes(const CarriedPart& part) {
+  return oriented_boxes(part.pose, part.body);
+}
+
+std::vector<OrientedBox> world_stud_boxes(const CarriedPart& part, double radius) {
+  std::vector<Box> boxes;
+  for (const Connector& k : part.studs) boxes.push_back(stud_box(k, radius));
+  return oriented_boxes(part.pose, boxes);
+}
+
+Box stud_box(const Connector& stud, double radius) {
+  Box b{stud.at, stud.at};
+  const int ax = axis_of(stud.direction);
+  for (int other = 0; other < 3; ++other)
+    if (other != ax) b.min[size_t(other)] -= radius, b.max[size_t(other)] += radius;
+  (sign_of(stud.direction) > 0 ? b.max : b.min)[size_t(ax)] += 4 * sign_of(stud.direction);
+  return b;
 }
 
 std::vector<Vec3> world_outline(const CarriedPart& part) {

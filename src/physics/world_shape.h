@@ -26,6 +26,11 @@ struct OrientedBox {
   Box bounds() const;  // the axis-aligned box around it
 };
 std::vector<OrientedBox> world_boxes(const CarriedPart& part);
+// A carried part's studs where the model puts it, each as stud_box makes it.
+std::vector<OrientedBox> world_stud_boxes(const CarriedPart& part, double radius);
+// The room a stud takes: `radius` around its axis, a stud's height (4 LDU) along it, in the frame
+// its position and direction are in.
+Box stud_box(const Connector& stud, double radius);
 // Where a carried part reaches (its outline, or its boxes' corners), in the lattice frame.
 std::vector<Vec3> world_outline(const CarriedPart& part);
 OrientedBox as_oriented(const Box& box);

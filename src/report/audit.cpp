@@ -150,6 +150,7 @@ void carry_bricks(Audit& audit, const std::vector<char>& carry, const std::strin
     c.mass_source = b.type->mass_source;
     c.body = b.type->shape.body;
     c.outline = b.type->shape.outline;
+    c.studs = b.type->shape.studs;
     c.pose = pose_of(b);
     a.carried.push_back(std::move(c));
     conversion.carried_part.push_back(conversion.brick_part[i]);

@@ -100,6 +100,33 @@ TEST(Brickcheck, StepsCatchTheArchBeforeItsKeystone) {
   EXPECT_EQ(steps["steps"][6]["bricks"], 15);
 }
 
+// A carried part touches with its studs too (PHYSICS.md "Carried parts": what it touches or
+// intersects): a plate turned by 45 degrees on a brick holds a brick drawn 2 LDU above it by the
+// studs that reach into it, as the police headquarters' dish hangs on its bracket's side studs.
+TEST(Brickcheck, ACarriedPartHoldsWhatItsStudsReachInto) {
+  auto path = scratch("turned-plate.ldr");
+  std::ofstream(path) << "0 turned plate\n"
+                         "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                         "1 1 0 -32 0 0.7071 0 0.7071 0 1 0 -0.7071 0 0.7071 3022.dat\n"
+                         "1 4 0 -58 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  json j = check_json({path.string()}, 0);
+  EXPECT_EQ(j["bricks"], 2);
+  ASSERT_EQ(j["carried"].size(), 1u);
+  EXPECT_TRUE(j["floating_carried"].empty()) << j["floating_carried"];
+  EXPECT_TRUE(j["floating"].empty()) << j["floating"];
+  ASSERT_EQ(j["joints"].size(), 1u);  // the plate ties the two bricks
+  EXPECT_EQ(j["joints"][0]["joins"].size(), 2u);
+  // 3 LDU above, the studs (4 LDU) still reach in; 6 LDU above, past the 1 LDU the rule allows,
+  // the brick floats.
+  std::ofstream(path) << "0 turned plate\n"
+                         "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                         "1 1 0 -32 0 0.7071 0 0.7071 0 1 0 -0.7071 0 0.7071 3022.dat\n"
+                         "1 4 0 -62 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  json apart = check_json({path.string()}, 1);
+  ASSERT_EQ(apart["floating_carried"].size(), 1u) << apart["floating_carried"];
+  EXPECT_EQ(apart["floating_carried"][0]["line"], 4);
+}
+
 TEST(Brickcheck, GroundThresholdAndLoads) {
   // A 2x4 held by one corner knob on a column of two 1x1 bricks.
   auto path = scratch("corner.ldr");
