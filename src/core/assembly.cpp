@@ -1,6 +1,7 @@
 #include "core/assembly.h"
 
 #include <cmath>
+#include <utility>
 
 namespace lego {
 
@@ -11,6 +12,22 @@ int Pose::turn(int direction) const {
     if (std::abs(m) > 0.5) return direction_of(r, (m < 0) != (sign_of(direction) < 0));
   }
   return direction;
+}
+
+CarriedPart carried_part(const BrickType& type, std::string reason, int color,
+                         const SourceRef& source, const Pose& pose) {
+  CarriedPart c;
+  c.part = type.part;
+  c.reason = std::move(reason);
+  c.color = color;
+  c.source = source;
+  c.mass_g = type.mass_g;
+  c.mass_source = type.mass_source;
+  c.body = type.shape.body;
+  c.outline = type.shape.outline;
+  c.studs = type.shape.studs;
+  c.pose = pose;
+  return c;
 }
 
 Pose pose_of(const Brick& b) {

@@ -33,6 +33,9 @@ struct CarriedPart {
   std::vector<Connector> studs;
   Pose pose;  // any rotation
 };
+// A part of `type` carried for `reason`: its body, outline, studs and mass are the type's.
+CarriedPart carried_part(const BrickType& type, std::string reason, int color,
+                         const SourceRef& source, const Pose& pose);
 
 // Bricks on the lattice plus what the physics needs besides them. Both front doors (LDraw files
 // and meshes) produce one.

@@ -234,19 +234,8 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
       pose.origin[1] += slip;
     }
     if (!carried_reason.empty()) {
-      CarriedPart c;
-      c.part = k->type.part;
-      c.reason = carried_reason;
-      c.color = p.color;
-      c.source = source;
-      c.mass_g = k->type.mass_g;
-      c.mass_source = k->type.mass_source;
-      c.body = k->type.shape.body;
-      c.outline = k->type.shape.outline;
-      c.studs = k->type.shape.studs;
       if (!orthonormalized(placed.rot, kRotationTolerance)) pose.rotation = placed.rot;
-      c.pose = pose;
-      out.assembly.carried.push_back(std::move(c));
+      out.assembly.carried.push_back(carried_part(k->type, carried_reason, p.color, source, pose));
       out.carried_part.push_back(i);
       continue;
     }

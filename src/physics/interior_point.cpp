@@ -422,12 +422,12 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
       Vec b_used(A_used.rows());
       for (int r = 0, u = 0; r < p.rows; ++r)
         if (used[r]) b_used[u++] = p.b[r];
-      if ((b_used - A_used * x).lpNorm<Eigen::Infinity>() / scale > 100 * options.tolerance) {
+      const double residual = (b_used - A_used * x).lpNorm<Eigen::Infinity>() / scale;
+      if (residual > 100 * options.tolerance) {
         result.converged = false;
-        result.message = m < m_used
-                             ? "a row taken as dependent does not hold at the solution"
-                             : fmt::format("its best point meets the equations only to {:.1e}",
-                                           (b_used - A_used * x).lpNorm<Eigen::Infinity>() / scale);
+        result.message =
+            m < m_used ? "a row taken as dependent does not hold at the solution"
+                       : fmt::format("its best point meets the equations only to {:.1e}", residual);
       }
     }
     result.objective = c.dot(x) + 0.5 * x.dot(q.cwiseProduct(x));

@@ -141,18 +141,7 @@ void carry_bricks(Audit& audit, const std::vector<char>& carry, const std::strin
       brick_part.push_back(conversion.brick_part[i]);
       continue;
     }
-    CarriedPart c;
-    c.part = b.type->part;
-    c.reason = reason;
-    c.color = b.color;
-    c.source = b.source;
-    c.mass_g = b.mass_g();
-    c.mass_source = b.type->mass_source;
-    c.body = b.type->shape.body;
-    c.outline = b.type->shape.outline;
-    c.studs = b.type->shape.studs;
-    c.pose = pose_of(b);
-    a.carried.push_back(std::move(c));
+    a.carried.push_back(carried_part(*b.type, reason, b.color, b.source, pose_of(b)));
     conversion.carried_part.push_back(conversion.brick_part[i]);
   }
   a.bricks = std::move(bricks);
