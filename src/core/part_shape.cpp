@@ -33,6 +33,8 @@ PartShape box_brick_shape(int length, int width, int height, bool studs) {
       const double x = -hx + kLduPerStud * (i + 0.5), z = -hz + kLduPerStud * (k + 0.5);
       if (studs) s.studs.push_back({{x, 0, z}, kMinusY});
       s.receptacles.push_back({{x, bottom, z}, kPlusY});
+      if (i > 0 && k > 0)
+        s.bores.push_back({{x - kLduPerStud / 2.0, bottom, z - kLduPerStud / 2.0}, kPlusY});
     }
   return s;
 }

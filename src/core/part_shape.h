@@ -41,6 +41,9 @@ struct Box {
 
 struct PartShape {
   std::vector<Connector> studs, receptacles;
+  // Receptacles inside the tubes between four cells (stud4.dat), half a stud off the cells: where
+  // a jumper plate's offset stud goes. Not cells: the ground's studs never reach them.
+  std::vector<Connector> bores;
   std::vector<Box> body;  // the solid without its studs: one box, or a few
   // The points of its faces farthest out in many directions: where the part reaches when it is
   // turned any way (a tilted round brick's lowest point is not its box's corner). Empty for the
@@ -53,8 +56,8 @@ struct PartShape {
 
 // The shape of a brick, plate or tile of the catalog's family: a box `length` x `width` studs and
 // `height` plates, origin at the top centre, length along x; studs on every top cell (or none, a
-// tile), a receptacle under every bottom cell. It is what the library's own files for these
-// parts derive to (tests/parts check it).
+// tile), a receptacle under every bottom cell and a bore in every tube between four. It is what the
+// library's own files for these parts derive to (tests/parts check it).
 PartShape box_brick_shape(int length, int width, int height, bool studs);
 
 }  // namespace lego

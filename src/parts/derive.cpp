@@ -17,6 +17,8 @@ constexpr double kStudRoom = 5.5, kStudDepth = 3.5;
 constexpr double kEnclosure = 10.5;
 // How far above a receptacle's opening its walls are looked for.
 constexpr double kRimHeight = 2;
+// A tube's bore holds a stud (6 LDU in radius) all round.
+constexpr double kBoreRadius = 6.5;
 constexpr double kEps = 1e-6;
 
 using Polygon = std::vector<Vec3>;
@@ -261,7 +263,7 @@ std::vector<Box> body_boxes(const PartGeometry& g, const std::optional<Vec3>& ce
   return out;
 }
 
-std::vector<Connector> receptacles(const PartGeometry& g) {
+Receptacles receptacles(const PartGeometry& g) {
   if (g.faces.empty()) return {};
   const Box bb = face_bounds(g);
   if ((bb.max[0] - bb.min[0]) * (bb.max[2] - bb.min[2]) > 4e6) return {};  // 100 x 100 studs
@@ -269,6 +271,7 @@ std::vector<Connector> receptacles(const PartGeometry& g) {
   struct Candidate {
     double x, z, plane;
     int phase;
+    bool bore;
   };
   std::vector<Candidate> found;
   const double half = kPitch / 2;
@@ -314,19 +317,19 @@ std::vector<Connector> receptacles(const PartGeometry& g) {
                                            {M_SQRT1_2, -M_SQRT1_2},
                                            {-M_SQRT1_2, M_SQRT1_2},
                                            {-M_SQRT1_2, -M_SQRT1_2}};
-      int enclosed = 0;
+      int enclosed = 0, held = 0;
       for (const auto& spoke : kSpokes) {
+        double reach = std::numeric_limits<double>::infinity();
         for (int f : near) {
           const Polygon p = slab(g.faces[size_t(f)], plane - kRimHeight, plane + 0.01);
-          if (p.size() >= 2 && ray_hit(p, x, z, spoke[0], spoke[1]) <= kEnclosure) {
-            ++enclosed;
-            break;
-          }
+          if (p.size() >= 2) reach = std::min(reach, ray_hit(p, x, z, spoke[0], spoke[1]));
         }
+        enclosed += reach <= kEnclosure;
+        held += reach <= kBoreRadius;
       }
       const int phase = int(std::lround(x / half)) % 2 != 0 ? 2 : 0;
       if (enclosed >= 2)
-        found.push_back({x, z, plane, phase + (int(std::lround(z / half)) % 2 != 0)});
+        found.push_back({x, z, plane, phase + (int(std::lround(z / half)) % 2 != 0), held == 8});
     }
   // One lattice of receptacles: the phase most of them share (the part's own cells first).
   int count[4] = {0, 0, 0, 0};
@@ -334,9 +337,14 @@ std::vector<Connector> receptacles(const PartGeometry& g) {
   int phase = 0;
   for (int p = 1; p < 4; ++p)
     if (count[p] > count[phase]) phase = p;
-  std::vector<Connector> out;
-  for (const auto& c : found)
-    if (c.phase == phase) out.push_back({{snap(c.x), snap(c.plane), snap(c.z)}, kPlusY});
+  Receptacles out;
+  for (const auto& c : found) {
+    const Connector r{{snap(c.x), snap(c.plane), snap(c.z)}, kPlusY};
+    if (c.phase == phase)
+      out.cells.push_back(r);
+    else if (c.phase == (phase ^ 3) && c.bore)
+      out.bores.push_back(r);
+  }
   return out;
 }
 
@@ -377,7 +385,9 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   t.kind = g.category;
   for (const Connector& s : g.studs)
     t.shape.studs.push_back({{snap(s.at[0]), snap(s.at[1]), snap(s.at[2])}, s.direction});
-  t.shape.receptacles = receptacles(g);
+  Receptacles found = receptacles(g);
+  t.shape.receptacles = std::move(found.cells);
+  t.shape.bores = std::move(found.bores);
   std::optional<Vec3> cell;
   for (const Connector& s : t.shape.studs)
     if (s.direction == kMinusY) cell = s.at;

@@ -26,8 +26,12 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& geometry,
 std::vector<Box> body_boxes(const PartGeometry& geometry, const std::optional<Vec3>& cell_centre);
 
 // Where a stud fits into the part from below: nothing of the part within a stud's size above the
-// point, and the part around it.
-std::vector<Connector> receptacles(const PartGeometry& geometry);
+// point, and the part around it. The cells share one lattice; bores are the tubes' insides, on
+// the lattice half a stud off it both ways.
+struct Receptacles {
+  std::vector<Connector> cells, bores;
+};
+Receptacles receptacles(const PartGeometry& geometry);
 
 // The geometry's farthest points in 124 directions (PartShape::outline).
 std::vector<Vec3> outline(const PartGeometry& geometry);

@@ -235,7 +235,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   size_t receptacle_count = 0;
   for (const Brick& b : a.bricks) {
     shapes.push_back(world_shape(b));
-    receptacle_count += shapes.back().receptacles.size();
+    receptacle_count += shapes.back().receptacles.size() + shapes.back().bores.size();
   }
   std::vector<std::vector<OrientedBox>> carried_boxes;
   std::vector<std::vector<Vec3>> carried_outline;
@@ -273,8 +273,13 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
 
   Receptacles receptacles;
   receptacles.reserve(receptacle_count);
-  for (int i = 0; i < n; ++i)
+  // Cells and bores in one index: a bore's neighbours half a stud off are never cells, so the
+  // friction points of a stud in a bore follow the part's row of tubes as a cell's follow its
+  // cells.
+  for (int i = 0; i < n; ++i) {
     for (const Connector& c : shapes[size_t(i)].receptacles) receptacles.add(c, i);
+    for (const Connector& c : shapes[size_t(i)].bores) receptacles.add(c, i);
+  }
   BoxIndex index;
   std::vector<std::pair<int, int>> box_owner;  // (brick, box of its body)
   for (int i = 0; i < n; ++i)

@@ -44,6 +44,7 @@ WorldShape world_shape(const Brick& brick) {
   };
   place(shape.studs, w.studs);
   place(shape.receptacles, w.receptacles);
+  place(shape.bores, w.bores);
   return w;
 }
 

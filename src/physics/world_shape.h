@@ -14,7 +14,7 @@ inline constexpr double kSnap = 1.0 / 8;
 
 struct WorldShape {
   std::vector<Box> body;
-  std::vector<Connector> studs, receptacles;
+  std::vector<Connector> studs, receptacles, bores;
 };
 WorldShape world_shape(const Brick& brick);
 

@@ -77,6 +77,7 @@ json render_json(const Audit& a, const AuditOptions& options) {
                                  {"kind", t.kind},
                                  {"studs", t.shape.studs.size()},
                                  {"receptacles", t.shape.receptacles.size()},
+                                 {"bores", t.shape.bores.size()},
                                  {"body_boxes", t.shape.body.size()},
                                  {"baseplate", t.baseplate},
                                  {"mass_g", t.mass_g},

@@ -50,6 +50,23 @@ TEST(BrickcheckReal, SlopeOnABrick) {
   EXPECT_NEAR(j["cm_gf"].get<double>(), 71.658, 1e-6);
 }
 
+// A jumper plate's stud sits half a stud off the lattice: a 2x2 plate takes it in its tube, a
+// 1x2 plate cannot (its pin is in the way) and only lies on the jumper.
+TEST(BrickcheckReal, AJumperStudInATube) {
+  SKIP_WITHOUT_SHARED();
+  const std::string base =
+      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n"
+      "1 1 0 -32 0 1 0 0 0 1 0 0 0 1 3794a.dat\n";
+  json j = check(model("jumper.ldr", base + "1 2 0 -40 0 1 0 0 0 1 0 0 0 1 3022.dat\n"), 0);
+  EXPECT_EQ(j["bricks"], 3);
+  EXPECT_EQ(j["carried"].size(), 0u) << j["carried"];
+  EXPECT_EQ(j["components"], 1);
+  json pin = check(model("jumper-pin.ldr", base + "1 2 0 -40 0 1 0 0 0 1 0 0 0 1 3023.dat\n"), 0);
+  EXPECT_EQ(pin["bricks"], 2);
+  ASSERT_EQ(pin["carried"].size(), 1u);
+  EXPECT_EQ(pin["carried"][0]["part"], "3023");
+}
+
 // Round plates stacked on a brick: each round plate's cell takes the stud under it.
 TEST(BrickcheckReal, A6141Stack) {
   SKIP_WITHOUT_SHARED();

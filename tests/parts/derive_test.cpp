@@ -54,6 +54,7 @@ TEST(DerivePart, TheBrickFamilyDerivesToTheCatalogShapes) {
     const PartShape expected = box_brick_shape(t.length, t.width, t.height, t.has_knobs);
     EXPECT_EQ(sorted(k.type.shape.studs), sorted(expected.studs));
     EXPECT_EQ(sorted(k.type.shape.receptacles), sorted(expected.receptacles));
+    EXPECT_EQ(sorted(k.type.shape.bores), sorted(expected.bores));
     ASSERT_EQ(k.type.shape.body.size(), 1u);
     EXPECT_EQ(k.type.shape.body[0].min, expected.body[0].min);
     EXPECT_EQ(k.type.shape.body[0].max, expected.body[0].max);
@@ -89,6 +90,14 @@ TEST(DerivePart, SlopesRoundPlatesSnotAndBaseplates) {
   // The inverted slope's front studs are drawn long, from inside the body: they stand on top.
   for (const Connector& s : derived(shared_library(), "3660").type.shape.studs)
     EXPECT_EQ(s.at[1], 0);
+  // A jumper plate's stud is half a stud off its cells; the tubes of 2-wide parts take such a
+  // stud (a bore), the pins of 1-wide parts do not.
+  PartKnowledge jumper = derived(shared_library(), "3794a");
+  ASSERT_EQ(jumper.type.shape.studs.size(), 1u);
+  EXPECT_EQ(jumper.type.shape.studs[0].at, (Vec3{0, 0, 0}));
+  EXPECT_TRUE(jumper.type.shape.bores.empty());
+  EXPECT_EQ(sorted(derived(shared_library(), "3031").type.shape.bores).size(), 9u);
+  EXPECT_TRUE(derived(shared_library(), "3710").type.shape.bores.empty());
   // The corner brick has three cells, not the open fourth.
   EXPECT_EQ(derived(shared_library(), "2357").type.shape.receptacles.size(), 3u);
   // A baseplate says so, and has no cells under it.
