@@ -147,7 +147,8 @@ constexpr double kWiden = 10;
 
 LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
                                 const StabilityOptions& o, std::string& message, LpStats* stats,
-                                bool simplex_fallback, const IpmOptions& ipm) {
+                                bool simplex_fallback, const IpmOptions& ipm,
+                                const std::function<bool()>& failure_explained) {
   // Support forces are free in the model. Bounding them lets the barrier converge in tens of
   // iterations instead of hundreds (the simplex is slower with them bounded, so it keeps them
   // free); a bound the solution touches is raised and the LP solved again.
@@ -172,7 +173,8 @@ LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
                         o.method == LpMethod::BarrierNoCrossover;
   LpSolution s = attempt(o.method, interior ? o.support_bound : kInfinity);
   if (stats) stats->solver = method_name(o.method);
-  if (simplex_fallback && o.method == LpMethod::InteriorPoint && s.outcome != LpOutcome::Optimal) {
+  if (simplex_fallback && o.method == LpMethod::InteriorPoint && s.outcome != LpOutcome::Optimal &&
+      !(failure_explained && failure_explained())) {
     // Exact all the same: Clp's dual simplex takes over, and the result says so. (Starting
     // Clp's primal simplex from the interior point method's best point was slower still on the
     // corpus models where it fails.)

@@ -46,12 +46,13 @@ IpmOptions scale_objective_options();
 // bounds are exactly ±bound), by options.method: interior methods start at
 // options.support_bound and widen the box by 1000 while the answer touches it, so the answer is
 // that of the free problem; our interior point method hands over to Clp's dual simplex when it
-// fails (unless `simplex_fallback` is false: then the failure is the answer), and `message` says
-// so. Row duals follow Clp's sign: reduced cost = c − Aᵀy. `ipm` goes to our interior point
-// method.
+// fails (unless `simplex_fallback` is false, or `failure_explained` says true when asked: then
+// the failure is the answer), and `message` says so. Row duals follow Clp's sign: reduced cost =
+// c − Aᵀy. `ipm` goes to our interior point method.
 LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
                                 const StabilityOptions& options, std::string& message,
                                 LpStats* stats = nullptr, bool simplex_fallback = true,
-                                const IpmOptions& ipm = {});
+                                const IpmOptions& ipm = {},
+                                const std::function<bool()>& failure_explained = {});
 
 }  // namespace lego::physics

@@ -659,6 +659,21 @@ TEST(BrickcheckCorpus, NoEquilibriumNamesWhatTips) {
   for (const auto& c : hangar["carried"])
     resting += c["reason"].get<std::string>().starts_with("it rests where it cannot stay");
   EXPECT_EQ(resting, 70);
+  // Where our method fails, the diagnosis answers before Clp's dual simplex would: the newspaper
+  // office's two signs (4150p03, lines 23 and 28) are held by nothing, and the report says which
+  // solver found it and why.
+  json office = check_datsville("building_052_newspaperoffice.mpd", 1);
+  EXPECT_EQ(office["status"], "no equilibrium");
+  std::set<int> lines;
+  for (const auto& u : office["unbalanced"]) {
+    EXPECT_EQ(u["part"], "4150p03");
+    lines.insert(u["line"].get<int>());
+  }
+  EXPECT_EQ(lines, (std::set<int>{23, 28}));
+  EXPECT_EQ(office["lp"]["solver"], "interior point");
+  EXPECT_NE(office["lp"]["solver_note"].get<std::string>().find("friction unlimited"),
+            std::string::npos)
+      << office["lp"]["solver_note"];
 }
 
 // The heat map of a real building: every analysed part coloured by its capacity, solved by our
