@@ -78,6 +78,9 @@ struct Audit {
   Verdict verdict = Verdict::Unreadable;
   std::string fatal;  // why the file is unreadable
   double parse_seconds = 0, parts_seconds = 0;
+  // 2 when a first analysis named parts resting where they cannot stay and they were carried:
+  // the stats' times are then those of both.
+  int analyses = 0;
 
   bool stable() const { return verdict == Verdict::Stable; }
   // Whether the verdict rests on assumptions: carried parts, or parts left out.

@@ -144,6 +144,7 @@ json render_json(const Audit& a, const AuditOptions& options) {
              {"capacity_solver",
               r.stats.capacity_solver.empty() ? json(nullptr) : json(r.stats.capacity_solver)},
              {"solver_note", r.message.empty() ? json(nullptr) : json(r.message)}};
+  j["analyses"] = a.analyses;
   j["timing"] = {{"parse", a.parse_seconds},       {"parts", a.parts_seconds},
                  {"graph", r.stats.graph_seconds}, {"build", r.stats.build_seconds},
                  {"solve", r.stats.solve_seconds}, {"capacity", r.stats.capacity_seconds}};

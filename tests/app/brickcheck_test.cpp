@@ -73,6 +73,7 @@ TEST(Brickcheck, JsonSchemaFields) {
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["ground"], "baseplate");
   EXPECT_EQ(j["components"], 1);
+  EXPECT_EQ(j["analyses"], 1);
   EXPECT_NEAR(j["cm_newton"].get<double>(), j["cm_gf"].get<double>() * 9.8e-3, 1e-9);
   EXPECT_EQ(j["lp"]["solver"], "interior point");  // and which one gave C_M, with a note if Clp
   EXPECT_TRUE(j["lp"]["solver_note"].is_null());
@@ -659,6 +660,8 @@ TEST(BrickcheckCorpus, NoEquilibriumNamesWhatTips) {
   for (const auto& c : hangar["carried"])
     resting += c["reason"].get<std::string>().starts_with("it rests where it cannot stay");
   EXPECT_EQ(resting, 70);
+  // Its times are those of both analyses, the first (which named the doors) included.
+  EXPECT_EQ(hangar["analyses"], 2);
   // Where our method fails, the diagnosis answers before Clp's dual simplex would: the newspaper
   // office's two signs (4150p03, lines 23 and 28) are held by nothing, and the report says which
   // solver found it and why.
