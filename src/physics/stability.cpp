@@ -127,9 +127,12 @@ void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, Stabi
   // Where our method fails, the diagnosis runs before Clp's dual simplex would: bodies that no
   // forces balance, even with friction unlimited, are the answer (the corpus's newspaper office:
   // its dual simplex took 3.5 s to find w = 0, the diagnosis 2.8 s to name the four parts).
+  // Run once at most: where it cannot answer (nullopt), asking again costs as much for nothing.
   std::optional<std::vector<int>> unbalanced;
+  bool diagnosed = false;
   const auto explained = [&] {
-    if (!unbalanced) unbalanced = unbalanced_bodies(sys, seconds_left(start, o.max_seconds));
+    if (!diagnosed) unbalanced = unbalanced_bodies(sys, seconds_left(start, o.max_seconds));
+    diagnosed = true;
     return unbalanced && !unbalanced->empty();
   };
   auto solve_capped = [&](double cap) {
