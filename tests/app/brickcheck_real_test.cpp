@@ -65,6 +65,23 @@ TEST(BrickcheckReal, AJumperStudInATube) {
   EXPECT_EQ(pin["bricks"], 2);
   ASSERT_EQ(pin["carried"].size(), 1u);
   EXPECT_EQ(pin["carried"][0]["part"], "3023");
+  // A 1x8 plate reaching out from the 2x2 plate pulls on the jumper's stud in the tube: that is
+  // the weakest contact, and the model turned 90° about the vertical says the same.
+  json arm = check(model("jumper-arm.ldr", base + "1 2 0 -40 0 1 0 0 0 1 0 0 0 1 3022.dat\n"
+                                                  "1 14 60 -48 10 1 0 0 0 1 0 0 0 1 3460.dat\n"),
+                   0);
+  const double cm = arm["cm_gf"].get<double>();
+  EXPECT_LT(cm, 71.5);
+  ASSERT_FALSE(arm["weakest"].empty());
+  EXPECT_EQ(arm["weakest"][0]["a"]["part"], "3794a");
+  EXPECT_EQ(arm["weakest"][0]["b"]["part"], "3022");
+  json turned = check(model("jumper-arm-turned.ldr",
+                            "1 4 0 -24 0 0 0 1 0 1 0 -1 0 0 3004.dat\n"
+                            "1 1 0 -32 0 0 0 1 0 1 0 -1 0 0 3794a.dat\n"
+                            "1 2 0 -40 0 0 0 1 0 1 0 -1 0 0 3022.dat\n"
+                            "1 14 10 -48 -60 0 0 1 0 1 0 -1 0 0 3460.dat\n"),
+                      0);
+  EXPECT_NEAR(turned["cm_gf"].get<double>(), cm, 1e-6);
 }
 
 // Round plates stacked on a brick: each round plate's cell takes the stud under it.
