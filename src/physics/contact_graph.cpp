@@ -51,7 +51,7 @@ PointKey key_of(const Vec3& p, int direction) {
 }
 
 // Every receptacle of the assembly by position and facing; duplicates chain through `next`.
-class Receptacles {
+class ReceptacleIndex {
  public:
   struct Entry {
     Vec3 at;
@@ -178,7 +178,7 @@ Rect in_plane(const Box& b, int axis) {
 
 // Friction points of one engaged stud: where it touches `upper`'s receptacle at `r`, by the
 // receptacles around it (PHYSICS.md "Stud connection").
-void add_friction_points(const Receptacles& all, int upper, const Vec3& r, int facing,
+void add_friction_points(const ReceptacleIndex& all, int upper, const Vec3& r, int facing,
                          std::vector<FrictionPoint>& out) {
   const int axis = axis_of(facing), f = kInPlane[axis][0], s = kInPlane[axis][1];
   auto has = [&](int df, int ds) {
@@ -271,7 +271,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
         a.bricks[size_t(i)].fixed || (a.bricks[size_t(i)].type->baseplate && bottom);
   }
 
-  Receptacles receptacles;
+  ReceptacleIndex receptacles;
   receptacles.reserve(receptacle_count);
   // Cells and bores in one index: a bore's neighbours half a stud off are never cells, so the
   // friction points of a stud in a bore follow the part's row of tubes as a cell's follow its
