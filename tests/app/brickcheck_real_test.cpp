@@ -70,8 +70,9 @@ TEST(BrickcheckReal, AJumperStudInATube) {
   json arm = check(model("jumper-arm.ldr", base + "1 2 0 -40 0 1 0 0 0 1 0 0 0 1 3022.dat\n"
                                                   "1 14 60 -48 10 1 0 0 0 1 0 0 0 1 3460.dat\n"),
                    0);
+  // 71.243 gf; with the plate and its arm carried, their weight on the jumper, it was 71.477.
   const double cm = arm["cm_gf"].get<double>();
-  EXPECT_LT(cm, 71.5);
+  EXPECT_LT(cm, 71.3);
   ASSERT_FALSE(arm["weakest"].empty());
   EXPECT_EQ(arm["weakest"][0]["a"]["part"], "3794a");
   EXPECT_EQ(arm["weakest"][0]["b"]["part"], "3022");
