@@ -317,13 +317,17 @@ Receptacles receptacles(const PartGeometry& g) {
                                            {M_SQRT1_2, -M_SQRT1_2},
                                            {-M_SQRT1_2, M_SQRT1_2},
                                            {-M_SQRT1_2, -M_SQRT1_2}};
+      std::vector<Polygon> rim;  // the faces at its bottom, clipped once for all eight spokes
+      for (int f : near)
+        if (Polygon p = slab(g.faces[size_t(f)], plane - kRimHeight, plane + 0.01); p.size() >= 2)
+          rim.push_back(std::move(p));
       int enclosed = 0, held = 0;
       for (const auto& spoke : kSpokes) {
+        // The nearest wall matters only while the cell may still be a bore (held on every spoke).
+        const double enough = held == int(&spoke - kSpokes) ? kBoreRadius : kEnclosure;
         double reach = std::numeric_limits<double>::infinity();
-        for (int f : near) {
-          const Polygon p = slab(g.faces[size_t(f)], plane - kRimHeight, plane + 0.01);
-          if (p.size() >= 2) reach = std::min(reach, ray_hit(p, x, z, spoke[0], spoke[1]));
-        }
+        for (const Polygon& p : rim)
+          if ((reach = std::min(reach, ray_hit(p, x, z, spoke[0], spoke[1]))) <= enough) break;
         enclosed += reach <= kEnclosure;
         held += reach <= kBoreRadius;
       }
