@@ -44,7 +44,7 @@ IpmOptions scale_objective_options();
 
 // Solves the LP that `make(bound)` builds with its support columns boxed at ±bound (those whose
 // bounds are exactly ±bound), by options.method: interior methods start at
-// options.support_bound and widen the box by 1000 while the answer touches it, so the answer is
+// options.support_bound and widen the box tenfold while the answer touches it, so the answer is
 // that of the free problem; our interior point method hands over to Clp's dual simplex when it
 // fails (unless `simplex_fallback` is false, or `failure_explained` says true when asked: then
 // the failure is the answer), and `message` says so. Row duals follow Clp's sign: reduced cost =

@@ -51,7 +51,7 @@ void rank_weakest(const EquilibriumSystem& sys, const ContactGraph& g,
 // equations fail (weights in g·m/s², so a body needs one where s > 0).
 // `max_seconds`: what is left of the analysis's time.
 std::optional<std::vector<int>> unbalanced_bodies(const EquilibriumSystem& sys,
-                                                  double max_seconds) {
+                                                  const StabilityOptions& o, double max_seconds) {
   auto make = [&](double bound) {
     LpData lp = equilibrium_lp(sys, kInfinity, 1.0 / kMaxFrictionLoad, bound);
     for (int r = 0; r < sys.rows; ++r)
@@ -74,21 +74,25 @@ std::optional<std::vector<int>> unbalanced_bodies(const EquilibriumSystem& sys,
     for (double r : residual) worst = std::max(worst, std::abs(r));
     return worst <= 0.1 * scale;
   };
-  // A diagnosis, not the verdict: our method first, supports boxed wide, a bounded number of
-  // iterations (the corpus's newspaper office spent 13 s here with the box widened and 120
-  // iterations). (Boxed at 10³ and widened as in the analysis, the carriage house took 16
-  // iterations instead of 30, but which bodies carry the virtual forces changed: on a table, the
-  // column under a 2x4 was named with it.) Where it stops short of balanced equations, Clp's
-  // primal simplex answers, within what is left of the analysis's time: on every model of the
-  // corpus without equilibrium our method stopped short, and no part was named. Primal, because
-  // the virtual forces make its first basis feasible: the newspaper office took it 6,335
-  // iterations, 2.5 s, after our method's 29 in 2.2 s; the dual simplex took 7,443. Clp alone
-  // would save those 2.2 s there, but our method answers the carriage house in 2.9 s where Clp
-  // takes 4.4 s (2026-12-01, 8551552).
+  // A diagnosis, not the verdict: our method first, supports boxed as in the analysis and the box
+  // widened while the answer touches it, a bounded number of iterations (the corpus's newspaper
+  // office spent 13 s here with 120). Converged, it ends at the centre of the optimal face and
+  // so names every body that some least virtual force holds: both of the Rolls-Royce's tiles in
+  // the same plight. Boxed at 10⁶ from the start, the normal equations spanned eighteen orders
+  // of magnitude and the directions stayed off by a twentieth of the residual: the carriage
+  // house ran the 30 iterations with 2,194 conjugate gradient steps (2.7 s; at 10³, 17
+  // iterations and 0.4 s), and the Rolls-Royce stopped short naming one tile (2026-12-01).
+  // Where it stops short of balanced equations, Clp's primal simplex answers, within what is
+  // left of the analysis's time (on the corpus our method answers every model; the most
+  // iterations, 29, the MGB's). Primal, because the virtual forces make its first basis
+  // feasible: the newspaper office took it 6,335 iterations, 2.5 s; the dual simplex 7,443.
   IpmOptions ipm;
   ipm.max_iterations = 30;
-  const LpData lp = make(1e6);
-  LpSolution s = solve_interior(lp, ipm);
+  StabilityOptions boxed = o;
+  boxed.method = LpMethod::InteriorPoint;
+  std::string unused;
+  LpSolution s = solve_supports_boxed(make, boxed, unused, nullptr, false, ipm);
+  const LpData lp = make(kInfinity);
   if (!balanced_enough(lp, s)) {
     s = solve_lp(lp, LpMethod::PrimalSimplex, true, true, max_seconds);
     if (!balanced_enough(lp, s)) return std::nullopt;
@@ -126,12 +130,12 @@ void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, Stabi
   };
   // Where our method fails, the diagnosis runs before Clp's dual simplex would: bodies that no
   // forces balance, even with friction unlimited, are the answer (the corpus's newspaper office:
-  // its dual simplex took 3.5 s to find w = 0, the diagnosis 2.8 s to name the four parts).
+  // its dual simplex took 3.5 s to find w = 0, the diagnosis names the four parts in 0.3 s).
   // Run once at most: where it cannot answer (nullopt), asking again costs as much for nothing.
   std::optional<std::vector<int>> unbalanced;
   bool diagnosed = false;
   const auto explained = [&] {
-    if (!diagnosed) unbalanced = unbalanced_bodies(sys, seconds_left(start, o.max_seconds));
+    if (!diagnosed) unbalanced = unbalanced_bodies(sys, o, seconds_left(start, o.max_seconds));
     diagnosed = true;
     return unbalanced && !unbalanced->empty();
   };
@@ -231,7 +235,8 @@ void solve_max_min(const EquilibriumSystem& sys, const StabilityOptions& o, Stab
   if (s.outcome == LpOutcome::Infeasible)
     return set_no_equilibrium(
         sys,
-        unbalanced_bodies(sys, seconds_left(start, o.max_seconds)).value_or(std::vector<int>{}), r);
+        unbalanced_bodies(sys, o, seconds_left(start, o.max_seconds)).value_or(std::vector<int>{}),
+        r);
   if (s.outcome != LpOutcome::Optimal) return set_failure(r, s);
   r.status = StabilityStatus::Solved;
   r.cm = s.x.back();
