@@ -284,7 +284,9 @@ void brick_capacity(const Assembly& a, const EquilibriumSystem& sys, const Stabi
   // building: 65 iterations, 3,337 conjugate gradient steps, 7 times its analysis).
   ipm.max_iterations = 50;
   std::string unused;
-  LpSolution s = solve_supports_boxed(make, o, unused, nullptr, false, ipm);
+  LpStats qp;
+  LpSolution s = solve_supports_boxed(make, o, unused, &qp, false, ipm);
+  r.stats.capacity_iterations = qp.iterations;
   r.stats.capacity_solver =
       o.method == LpMethod::InteriorPoint ? method_name(LpMethod::InteriorPoint) : "Clp QP";
   auto capacity_from = [&](auto friction) {  // friction(j): column j's force, in g·m/s²

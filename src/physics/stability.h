@@ -66,6 +66,7 @@ struct LpStats {
   // What gave the per-brick capacity (heat maps): "interior point", "Clp QP" (when the analysis is
   // asked of Clp), or kCapacityFromAnalysis when our method failed (`message` says why).
   std::string capacity_solver;
+  int capacity_iterations = 0;  // of our interior point method on the capacity QP, all boxes
   double graph_seconds = 0, build_seconds = 0, solve_seconds = 0, capacity_seconds = 0;
 };
 

@@ -400,10 +400,10 @@ void meshes_section(const std::vector<std::pair<std::string, fs::path>>& files, 
 // The stability solver on irregular models (issue 17), per case: bricks, our interior point
 // method's iterations, time and solver path (with Clp taking over when it fails), C_M, Clp's
 // dual simplex on the same model in the same run (time, capped at a minute; C_M; ratio), a
-// regular model of the
-// same size (a hollow box: time and the case's ratio to it; target at most 3), and the heat
-// map's per-brick capacity (time and its ratio to the analysis; target at most 2; "*" after it
-// when our method failed and the map shows the analysis's own forces).
+// regular model of the same size (a hollow box: time and the case's ratio to it; target at most
+// 3), and the heat map's per-brick capacity (its QP's iterations, time and its ratio to the
+// analysis; target at most 2; "*" after it when our method failed and the map shows the
+// analysis's own forces).
 void hard_line(const std::string& name, const Assembly& a) {
   auto timed = [&](const physics::StabilityOptions& o) {
     const auto t = Clock::now();
@@ -423,7 +423,7 @@ void hard_line(const std::string& name, const Assembly& a) {
   const bool clp_done = clp.status != physics::StabilityStatus::IterationLimit;
   const Assembly regular = bench::hollow_box_of(int(a.bricks.size()));
   const auto [reg, reg_s] = timed({});
-  std::string capacity = "-", capacity_ratio = "-";
+  std::string capacity = "-", capacity_ratio = "-", capacity_iterations = "-";
   if (ipm.status == physics::StabilityStatus::Solved) {
     physics::StabilityOptions o;
     o.brick_capacity = true;
@@ -432,22 +432,25 @@ void hard_line(const std::string& name, const Assembly& a) {
     capacity = number(with.stats.capacity_seconds, "{:.2f}") +
                (with.stats.capacity_solver == "interior point" ? "" : "*");
     capacity_ratio = fmt::format("{:.1f}", with.stats.capacity_seconds / ipm_s);
+    capacity_iterations = std::to_string(with.stats.capacity_iterations);
   }
-  fmt::print("{:<24} {:>6} {:>5} {:>8} {:<34} {:>9} {:>8} {:>9} {:>6} {:>8} {:>6} {:>8} {:>6}\n",
-             name, a.bricks.size(), ipm.stats.iterations, number(ipm_s, "{:.2f}"),
-             ipm.stats.solver.empty() ? std::string("-") : ipm.stats.solver, cm(ipm),
-             (clp_done ? "" : ">") + number(clp_s, "{:.2f}"), clp_done ? cm(clp) : "-",
-             fmt::format("{}{:.2f}", clp_done ? "" : "<", ipm_s / clp_s), number(reg_s, "{:.2f}"),
-             fmt::format("{:.1f}", ipm_s / reg_s), capacity, capacity_ratio);
+  fmt::print(
+      "{:<24} {:>6} {:>5} {:>8} {:<34} {:>9} {:>8} {:>9} {:>6} {:>8} {:>6} {:>7} {:>8} {:>6}\n",
+      name, a.bricks.size(), ipm.stats.iterations, number(ipm_s, "{:.2f}"),
+      ipm.stats.solver.empty() ? std::string("-") : ipm.stats.solver, cm(ipm),
+      (clp_done ? "" : ">") + number(clp_s, "{:.2f}"), clp_done ? cm(clp) : "-",
+      fmt::format("{}{:.2f}", clp_done ? "" : "<", ipm_s / clp_s), number(reg_s, "{:.2f}"),
+      fmt::format("{:.1f}", ipm_s / reg_s), capacity_iterations, capacity, capacity_ratio);
   if (!ipm.message.empty()) fmt::print("    ({})\n", ipm.message);
   std::fflush(stdout);
 }
 
 void hard_section(const fs::path& spider, const std::string& only, bool quick) {
   fmt::print("\nhard cases for the stability solver (ours vs Clp's dual simplex, same run)\n");
-  fmt::print("{:<24} {:>6} {:>5} {:>8} {:<34} {:>9} {:>8} {:>9} {:>6} {:>8} {:>6} {:>8} {:>6}\n",
-             "input", "bricks", "iter", "ipm_s", "solver", "cm", "clp_s", "clp_cm", "x_clp",
-             "box_s", "x_box", "heat_s", "x_heat");
+  fmt::print(
+      "{:<24} {:>6} {:>5} {:>8} {:<34} {:>9} {:>8} {:>9} {:>6} {:>8} {:>6} {:>7} {:>8} {:>6}\n",
+      "input", "bricks", "iter", "ipm_s", "solver", "cm", "clp_s", "clp_cm", "x_clp", "box_s",
+      "x_box", "heat_it", "heat_s", "x_heat");
   auto wanted = [&](const std::string& name) {
     return only.empty() || only == "hard" || name.find(only) != std::string::npos;
   };
