@@ -83,8 +83,8 @@ std::optional<std::vector<int>> unbalanced_bodies(const EquilibriumSystem& sys,
   // house ran the 30 iterations with 2,194 conjugate gradient steps (2.7 s; at 10³, 17
   // iterations and 0.4 s), and the Rolls-Royce stopped short naming one tile (2026-12-01).
   // Where it stops short of balanced equations, Clp's primal simplex answers, within what is
-  // left of the analysis's time (on the corpus our method answers every model; the most
-  // iterations, 29, the MGB's). Primal, because the virtual forces make its first basis
+  // left of the analysis's time (on the corpus our method answers every model, in 17
+  // iterations at most). Primal, because the virtual forces make its first basis
   // feasible: the newspaper office took it 6,335 iterations, 2.5 s; the dual simplex 7,443.
   IpmOptions ipm;
   ipm.max_iterations = 30;
