@@ -201,38 +201,54 @@ layout::Target teapot_like() {
   });
 }
 
-// brickcheck over the Datsville corpus (../shared/ldraw-corpus/models.txt) with the shared parts
-// library, each model with part knowledge derived afresh (as one brickcheck run pays it): the
-// share of models with a C_M, of part occurrences analysed, carried and left out, the models
-// with floating parts, time per model, and the reasons parts are carried.
+// Audits every model of the corpus (../shared/ldraw-corpus/models.txt) with the shared parts
+// library, one after the other, each with part knowledge derived afresh (as one brickcheck run
+// pays it), and hands each to `visit` with the seconds it took (an unreadable file as
+// Verdict::Unreadable). Returns false when there is no corpus.
+bool for_each_corpus_model(
+    const fs::path& shared, const report::AuditOptions& options,
+    const std::function<void(const std::string&, const report::Audit&, double)>& visit) {
+  std::ifstream list(shared / "ldraw-corpus" / "models.txt");
+  if (!list) return false;
+  for (std::string name; std::getline(list, name);) {
+    if (name.empty()) continue;
+    parts::PartLibrary knowledge(options.read.library_dirs, BrickCatalog::standard());
+    const auto t = Clock::now();
+    report::Audit a;
+    try {
+      a = report::audit_file(shared / "ldraw-corpus" / name, options, knowledge);
+    } catch (const std::exception&) {
+      a.verdict = report::Verdict::Unreadable;
+    }
+    visit(name, a, seconds_since(t));
+  }
+  return true;
+}
+
+report::AuditOptions corpus_options(const fs::path& shared, double max_seconds) {
+  report::AuditOptions options;
+  options.read.library_dirs = {shared / "ldraw-library"};
+  options.stability.max_seconds = max_seconds;
+  return options;
+}
+
+// brickcheck over the Datsville corpus: the share of models with a C_M, of part occurrences
+// analysed, carried and left out, the models with floating parts, time per model, and the
+// reasons parts are carried.
 void corpus_section(const fs::path& shared, double max_seconds) {
   const fs::path corpus = shared / "ldraw-corpus", library = shared / "ldraw-library";
-  std::ifstream list(corpus / "models.txt");
-  if (!list) return;
-  report::AuditOptions options;
-  options.read.library_dirs = {library};
-  options.stability.max_seconds = max_seconds;
   int models = 0, with_cm = 0, floating = 0, unreadable = 0;
   size_t parts = 0, analysed = 0, carried = 0, left_out = 0;
   std::vector<double> times;
   std::string slowest;
   std::map<std::string, int> reasons;
-  for (std::string name; std::getline(list, name);) {
-    if (name.empty()) continue;
+  auto count = [&](const std::string& name, const report::Audit& a, double seconds) {
     ++models;
-    parts::PartLibrary knowledge(options.read.library_dirs, BrickCatalog::standard());
-    const auto t = Clock::now();
-    report::Audit a;
-    try {
-      a = report::audit_file(corpus / name, options, knowledge);
-    } catch (const std::exception&) {
-      a.verdict = report::Verdict::Unreadable;
-    }
-    times.push_back(seconds_since(t));
+    times.push_back(seconds);
     if (times.back() >= *std::max_element(times.begin(), times.end())) slowest = name;
     if (a.verdict == report::Verdict::Unreadable) {
       ++unreadable;
-      continue;
+      return;
     }
     with_cm += a.stability.status == physics::StabilityStatus::Solved;
     floating += !a.stability.connectivity.all_grounded();
@@ -241,7 +257,8 @@ void corpus_section(const fs::path& shared, double max_seconds) {
     carried += a.conversion.assembly.carried.size();
     left_out += a.conversion.skipped.size();
     for (const auto& c : a.conversion.assembly.carried) ++reasons[c.reason];
-  }
+  };
+  for_each_corpus_model(shared, corpus_options(shared, max_seconds), count);
   if (models == 0) return;
   auto share = [](double n, double of) { return fmt::format("{:.1f}%", 100 * n / of); };
   fmt::print("\ncorpus: {} models of {} with {}\n", models, (corpus / "models.txt").string(),
@@ -257,6 +274,39 @@ void corpus_section(const fs::path& shared, double max_seconds) {
   std::sort(ranked.rbegin(), ranked.rend());
   fmt::print("why parts are carried ({} occurrences):\n", carried);
   for (const auto& [n, reason] : ranked) fmt::print("{:>7}  {}\n", n, reason);
+}
+
+// The corpus's heat maps (issue 17), as `brickcheck --heatmap` computes them: the models whose
+// map needs a QP (a C_M below T), how many of those maps fall back to the analysis's forces, and
+// the map's time against its analysis (both analyses where there are two): the median, the models
+// over twice (the target), and all maps together.
+void corpus_heat_section(const fs::path& shared, double max_seconds) {
+  report::AuditOptions options = corpus_options(shared, max_seconds);
+  options.brick_capacity = true;
+  int maps = 0, fallbacks = 0, over_twice = 0;
+  double map_seconds = 0, analysis_seconds = 0, worst_ratio = 0;
+  std::vector<double> ratios;
+  std::string worst;
+  auto count = [&](const std::string& name, const report::Audit& a, double) {
+    const physics::LpStats& stats = a.stability.stats;
+    if (stats.capacity_solver.empty()) return;
+    ++maps;
+    fallbacks += stats.capacity_solver != std::string("interior point");
+    const double ratio = stats.capacity_seconds / std::max(stats.solve_seconds, 1e-9);
+    ratios.push_back(ratio);
+    over_twice += ratio > 2;
+    map_seconds += stats.capacity_seconds;
+    analysis_seconds += stats.solve_seconds;
+    if (ratio > worst_ratio) worst_ratio = ratio, worst = name;
+  };
+  const bool ran = for_each_corpus_model(shared, options, count);
+  if (!ran || maps == 0) return;
+  fmt::print("\ncorpus heat maps: per-brick capacity of the models that need friction\n");
+  fmt::print("{:>6} {:>9} {:>9} {:>10} {:>8} {:>10}  worst\n", "maps", "fallback", "x_median",
+             "over_2x", "map_s", "analysis_s");
+  fmt::print("{:>6} {:>9} {:>9} {:>10} {:>8} {:>10}  {} ({:.1f}x)\n", maps, fallbacks,
+             fmt::format("{:.2f}", median(ratios)), over_twice, number(map_seconds, "{:.1f}"),
+             number(analysis_seconds, "{:.1f}"), worst, worst_ratio);
 }
 
 // Build steps (issue 16): legolize's layout of each mesh (initialized and refined, as legolize
@@ -634,4 +684,6 @@ int main(int argc, char** argv) {
       only == "cantilever")
     hard_section("/usr/share/assimp/models/OBJ/spider.obj", only, quick);
   if (wanted("corpus")) corpus_section(source / ".." / "shared", 60);
+  // Heat maps double the corpus's time: only in a whole run or when asked for by name.
+  if (only.empty() || only == "corpus-heat") corpus_heat_section(source / ".." / "shared", 60);
 }
