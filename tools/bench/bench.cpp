@@ -451,9 +451,9 @@ void meshes_section(const std::vector<std::pair<std::string, fs::path>>& files, 
 // method's iterations, time and solver path (with Clp taking over when it fails), C_M, Clp's
 // dual simplex on the same model in the same run (time, capped at a minute; C_M; ratio), a
 // regular model of the same size (a hollow box: time and the case's ratio to it; target at most
-// 3), and the heat map's per-brick capacity (its QP's iterations, time and its ratio to the
-// analysis; target at most 2; "*" after it when our method failed and the map shows the
-// analysis's own forces).
+// 3), and the heat map's per-brick capacity (time and its ratio to the analysis, target at most
+// 2, "*" after it when our method failed and the map shows the analysis's own forces; then its
+// QP's iterations, the last column since c352183).
 void hard_line(const std::string& name, const Assembly& a) {
   auto timed = [&](const physics::StabilityOptions& o) {
     const auto t = Clock::now();
@@ -485,12 +485,12 @@ void hard_line(const std::string& name, const Assembly& a) {
     capacity_iterations = std::to_string(with.stats.capacity_iterations);
   }
   fmt::print(
-      "{:<24} {:>6} {:>5} {:>8} {:<34} {:>9} {:>8} {:>9} {:>6} {:>8} {:>6} {:>7} {:>8} {:>6}\n",
+      "{:<24} {:>6} {:>5} {:>8} {:<34} {:>9} {:>8} {:>9} {:>6} {:>8} {:>6} {:>8} {:>6} {:>7}\n",
       name, a.bricks.size(), ipm.stats.iterations, number(ipm_s, "{:.2f}"),
       ipm.stats.solver.empty() ? std::string("-") : ipm.stats.solver, cm(ipm),
       (clp_done ? "" : ">") + number(clp_s, "{:.2f}"), clp_done ? cm(clp) : "-",
       fmt::format("{}{:.2f}", clp_done ? "" : "<", ipm_s / clp_s), number(reg_s, "{:.2f}"),
-      fmt::format("{:.1f}", ipm_s / reg_s), capacity_iterations, capacity, capacity_ratio);
+      fmt::format("{:.1f}", ipm_s / reg_s), capacity, capacity_ratio, capacity_iterations);
   if (!ipm.message.empty()) fmt::print("    ({})\n", ipm.message);
   std::fflush(stdout);
 }
@@ -498,9 +498,9 @@ void hard_line(const std::string& name, const Assembly& a) {
 void hard_section(const fs::path& spider, const std::string& only, bool quick) {
   fmt::print("\nhard cases for the stability solver (ours vs Clp's dual simplex, same run)\n");
   fmt::print(
-      "{:<24} {:>6} {:>5} {:>8} {:<34} {:>9} {:>8} {:>9} {:>6} {:>8} {:>6} {:>7} {:>8} {:>6}\n",
+      "{:<24} {:>6} {:>5} {:>8} {:<34} {:>9} {:>8} {:>9} {:>6} {:>8} {:>6} {:>8} {:>6} {:>7}\n",
       "input", "bricks", "iter", "ipm_s", "solver", "cm", "clp_s", "clp_cm", "x_clp", "box_s",
-      "x_box", "heat_it", "heat_s", "x_heat");
+      "x_box", "heat_s", "x_heat", "heat_it");
   auto wanted = [&](const std::string& name) {
     return only.empty() || only == "hard" || name.find(only) != std::string::npos;
   };
