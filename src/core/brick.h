@@ -43,6 +43,15 @@ inline int lattice_direction(int ldraw_direction) {
   return axis_of(ldraw_direction) == 1 ? opposite(ldraw_direction) : ldraw_direction;
 }
 
+// A lattice of its own (PHYSICS.md "Turned frames"): the parts inside a submodel that the model
+// turns about the vertical by an angle that is not a multiple of 90 degrees (a stand turned on
+// its base) lie on the submodel's lattice. Their poses are in that frame, and `pose` puts the frame
+// in the model.
+struct LatticeFrame {
+  int id = 0;  // bricks whose frames share an id share one lattice
+  Pose pose;   // any rotation
+};
+
 // A brick on the lattice: the lattice cell of its minimum corner, turned 0 or 90 degrees about
 // the vertical. At 0 degrees its length runs along x; at 90 degrees along z. A part read from
 // LDraw has its exact pose instead (any turn by multiples of 90 degrees, anywhere): `pose`.
@@ -51,7 +60,8 @@ struct Brick {
   LatticePoint min;  // x, z in studs; y in plates (the bottom face); when `pose` is unset
   bool rotated = false;
   std::optional<Pose> pose;
-  int color = 16;  // LDraw colour code
+  std::optional<LatticeFrame> frame;  // when set, `pose` is in this frame, not the model's
+  int color = 16;                     // LDraw colour code
   SourceRef source;
   bool fixed = false;  // part of the ground: a baseplate at the bottom, or named so by the user
 
@@ -67,5 +77,7 @@ struct Brick {
 // The pose of any brick: `pose` when set, else the one its lattice cell and turn give (origin at
 // the top centre of the body, as LDraw parts have it).
 Pose pose_of(const Brick& brick);
+// Where the model puts it: pose_of, through its frame when it has one.
+Pose model_pose(const Brick& brick);
 
 }  // namespace lego

@@ -391,6 +391,8 @@ class Flattener {
   std::vector<std::unique_ptr<Document>> documents_;
   std::map<fs::path, const Document*> external_;
   std::vector<const Block*> stack_;
+  std::vector<SubmodelPlacement> inside_;  // the placements being expanded, outermost first
+  int placements_ = 0;
   CaseInsensitiveFinder finder_;
   bool budget_exceeded_ = false;
   // Building steps: the main model's, and a submodel's own where it is first placed (as LPub3D
@@ -529,6 +531,8 @@ class Flattener {
     p.reference = ref.name;
     p.color = color;
     p.transform = world;
+    p.inside = inside_;
+    p.local = ref.transform;
     p.file = doc.file;
     p.line = ref.line;
     p.step = step_;
@@ -606,6 +610,7 @@ class Flattener {
         model_.submodels.end())
       model_.submodels.push_back(target.name);
     stack_.push_back(&target);
+    inside_.push_back({placements_++, ref.transform});
     const bool first = placed_.insert(&target).second;
     for (const Entry& entry : target.entries) {
       if (const auto* child = std::get_if<RefLine>(&entry))
@@ -613,6 +618,7 @@ class Flattener {
       else if (first && parts_in_step() > 0)  // its own step, the first time it is placed
         end_step(std::get<StepMark>(entry).rotstep);
     }
+    inside_.pop_back();
     stack_.pop_back();
   }
 };

@@ -21,13 +21,25 @@ struct Diagnostic {
   std::string text() const;  // "file:line: error: message"
 };
 
+// A submodel reference that a placed part is inside: which placement of a submodel it is (a
+// number in reading order, so two placements of one submodel differ) and its line's transform.
+struct SubmodelPlacement {
+  int instance = 0;
+  Transform transform;
+};
+
 // A part placed in the world after flattening submodels.
 struct PlacedPart {
   std::string part;       // normalized reference: "3001", "s/3068bs01"
   std::string reference;  // as written on the type-1 line
   int color = kMainColor;
   Transform transform;  // world placement
-  std::string file;     // where the type-1 line that placed it is
+  // How: the submodel placements it is inside, outermost first, then its own line's transform.
+  // Their product is `transform`; each is exactly as written, so what lies on a lattice inside a
+  // submodel placed at an angle stays exactly on it there.
+  std::vector<SubmodelPlacement> inside;
+  Transform local;
+  std::string file;  // where the type-1 line that placed it is
   int line = 0;
   int step = 1;                      // step of the main model (1-based) at which it appears
   std::string submodel;              // the model block holding the line ("" = main model)

@@ -69,7 +69,7 @@ std::vector<size_t> by_step(const Assembly& a) {
 }  // namespace
 
 Transform brick_transform(const Brick& brick, const std::array<int, 3>& origin_ldu) {
-  const Pose pose = pose_of(brick);
+  const Pose pose = model_pose(brick);
   Transform t;
   for (int a = 0; a < 3; ++a) t.pos[size_t(a)] = origin_ldu[size_t(a)] + pose.origin[size_t(a)];
   t.rot = pose.rotation;

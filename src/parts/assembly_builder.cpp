@@ -152,6 +152,45 @@ double plate_slip(double y, double offset) {
   return std::abs(d) > kOnLattice && std::abs(d) <= kPlateSlip ? -d : 0;
 }
 
+// PHYSICS.md "Turned frames": a part turned by an angle that is not a multiple of 90 degrees
+// lies on a lattice of its own when a submodel placement turned it: the outermost placement
+// whose turn is not a quarter turn (`outer`, in the model's frame) is that lattice, and what
+// lies inside it (its file's exact numbers) must place the part on a quarter turn there.
+// Only a turn about the vertical: on a tilted lattice gravity pulls across the studs, and a
+// connection's support force, one per contact at its centre, cannot hold the twist that makes
+// about the stud axis (the corpus's small shuttle: a tail fin on two studs, its engine tilted
+// 45 degrees, had no equilibrium).
+struct FramedPart {
+  LatticeFrame frame;
+  Pose pose;
+};
+// The main file's own lattice is such a frame where the model is analysed turned (model_frame)
+// and a part of the main file is not (the outvoted bricks beside a turned building).
+constexpr int kMainFileFrame = -2;  // placement instances count from 0
+std::optional<FramedPart> turned_frame(const ldraw::PlacedPart& p, ldraw::Transform outer) {
+  for (size_t j = 0; j <= p.inside.size(); ++j) {  // j = 0: the main file; j: inside[j - 1]
+    if (j > 0) outer = outer.then(p.inside[j - 1].transform);
+    const auto turn = orthonormalized(outer.rot, kRotationTolerance);
+    if (!turn) return std::nullopt;
+    if (quarter_turn(*turn, kQuarterTurnTolerance)) continue;
+    if ((*turn)[4] < 1 - kRotationTolerance) return std::nullopt;  // tilted
+    ldraw::Transform inner;
+    for (size_t k = j; k < p.inside.size(); ++k) inner = inner.then(p.inside[k].transform);
+    inner = inner.then(p.local);
+    const auto rotation = orthonormalized(inner.rot, 1e-6);
+    const auto quarter = rotation ? quarter_turn(*rotation, 1e-6) : std::nullopt;
+    if (!quarter) return std::nullopt;
+    FramedPart out;
+    out.frame.id = j == 0 ? kMainFileFrame : p.inside[j - 1].instance;
+    out.frame.pose.rotation = *turn;
+    out.frame.pose.origin = outer.pos;
+    out.pose.rotation = *quarter;
+    out.pose.origin = inner.pos;
+    return out;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
@@ -221,15 +260,19 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
       carried_reason = "its matrix is scaled or sheared";
     }
     std::optional<std::array<double, 9>> turn;
+    std::optional<FramedPart> framed;
     if (carried_reason.empty()) {
       turn = quarter_turn(rotation, kQuarterTurnTolerance);
-      if (!turn) carried_reason = "turned by an angle that is not a multiple of 90 degrees";
+      if (!turn) framed = turned_frame(p, in_frame(ldraw::Transform{}));
+      if (!turn && !framed)
+        carried_reason = "turned by an angle that is not a multiple of 90 degrees";
     }
     Pose pose;
     pose.rotation = turn ? *turn : rotation;
     pose.origin = placed.pos;
+    if (framed) pose = framed->pose;
     double slip = 0;
-    if (carried_reason.empty() && std::abs(std::abs(pose.rotation[4]) - 1) < 1e-9) {
+    if (carried_reason.empty() && !framed && std::abs(std::abs(pose.rotation[4]) - 1) < 1e-9) {
       slip = plate_slip(placed.pos[1], plates);
       pose.origin[1] += slip;
     }
@@ -245,7 +288,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
            fmt::format("placed {:g} LDU {} the plates the model's other parts stand on: taken as "
                        "on them",
                        std::abs(slip), slip > 0 ? "above" : "below")});
-    if (approximate)  // said where the verdict relies on it
+    if (approximate && !framed)  // said where the verdict relies on it
       out.diagnostics.push_back(
           {ldraw::Severity::Warning, p.file, p.line,
            "its matrix is a rotation only to 1e-2 (a few decimals): taken as the rotation it is "
@@ -255,6 +298,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     Brick b;
     b.type = type;
     b.pose = pose;
+    if (framed) b.frame = framed->frame;
     b.color = p.color;
     b.source = source;
     b.fixed = std::find(fixed_parts.begin(), fixed_parts.end(), i) != fixed_parts.end();

@@ -35,9 +35,9 @@ Connectivity analyze_connectivity(int brick_count, const ContactGraph& graph) {
   for (const auto& c : graph.contacts) {
     // A part resting off the lattice (on studs it does not take) is not held by that rest.
     const bool from_below = c.direction == kPlusY && !c.snap() && !c.misaligned;
-    if (fixed(c.lower) && !fixed(c.upper) && (c.snap() || from_below))
+    if (fixed(c.lower) && !fixed(c.upper) && (c.snap() || c.joint || from_below))
       ground(out.component[size_t(c.upper)]);
-    else if (fixed(c.upper) && !fixed(c.lower) && c.snap())
+    else if (fixed(c.upper) && !fixed(c.lower) && (c.snap() || c.joint))
       ground(out.component[size_t(c.lower)]);
     else if (from_below && !fixed(c.lower) && !fixed(c.upper))
       rests_on[size_t(out.component[size_t(c.lower)])].push_back(out.component[size_t(c.upper)]);

@@ -159,6 +159,7 @@ struct Meeting {
   Rect patch;
   std::vector<Vec3> receptacles;  // engaged, in `upper`
   bool support = false;
+  bool turned = false;  // in the lattice frame of `upper`, which is turned (Contact::turned)
 };
 
 void grow(Rect& r, bool& has, const Rect& add) {
@@ -220,7 +221,7 @@ Vec3 body_centre(const Brick& brick) {
     volume += v;
   }
   for (double& c : sum) c /= volume;
-  return sum;
+  return to_model(brick, sum);
 }
 
 ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
@@ -233,10 +234,16 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   std::vector<WorldShape> shapes;
   shapes.reserve(size_t(n));
   size_t receptacle_count = 0;
+  bool any_turned = false;
   for (const Brick& b : a.bricks) {
     shapes.push_back(world_shape(b));
     receptacle_count += shapes.back().receptacles.size() + shapes.back().bores.size();
+    any_turned = any_turned || b.frame;
   }
+  // Parts meet by their studs and faces only on one lattice (PHYSICS.md "Turned frames").
+  auto frame_of = [&](int i) {
+    return a.bricks[size_t(i)].frame ? a.bricks[size_t(i)].frame->id : -1;
+  };
   std::vector<std::vector<OrientedBox>> carried_boxes;
   std::vector<std::vector<Vec3>> carried_outline;
   std::vector<double> carried_bottom;  // the lowest point of each carried part
@@ -257,8 +264,9 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
       g.ground_height = any ? std::min(g.ground_height, y) : y;
       any = true;
     };
-    for (const auto& s : shapes)
-      for (const Box& b : s.body) lowest(b.min[1]);
+    for (int i = 0; i < n; ++i)
+      for (const Box& b : shapes[size_t(i)].body)
+        lowest(model_bounds(a.bricks[size_t(i)], b).min[1]);
     for (double bottom : carried_bottom)
       if (bottom < 1e299) lowest(bottom);
   }
@@ -266,7 +274,8 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   auto on_ground = [&](double y) { return std::abs(y - ground_y) <= kTouch; };
   for (int i = 0; i < n; ++i) {
     bool bottom = false;
-    for (const Box& b : shapes[size_t(i)].body) bottom = bottom || b.min[1] <= ground_y + kSettle;
+    for (const Box& b : shapes[size_t(i)].body)
+      bottom = bottom || model_bounds(a.bricks[size_t(i)], b).min[1] <= ground_y + kSettle;
     g.fixed[size_t(i)] =
         a.bricks[size_t(i)].fixed || (a.bricks[size_t(i)].type->baseplate && bottom);
   }
@@ -291,12 +300,35 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   auto box = [&](int id) -> const Box& {
     return shapes[size_t(box_owner[size_t(id)].first)].body[size_t(box_owner[size_t(id)].second)];
   };
+  // Where bodies are in the model: `index` holds each box in its brick's lattice frame, so the
+  // boxes of turned bricks are found again, by where the model puts them, in `turned_index`.
+  BoxIndex turned_index;
+  if (any_turned) {
+    for (int id = 0; id < int(box_owner.size()); ++id)
+      if (const Brick& b = a.bricks[size_t(box_owner[size_t(id)].first)]; b.frame)
+        turned_index.add(model_bounds(b, box(id)), id);
+    turned_index.finish();
+  }
+  auto model_box = [&](int id) {
+    return to_model(a.bricks[size_t(box_owner[size_t(id)].first)], box(id));
+  };
+  // Calls f(id) for the boxes near `bounds` (the model's lattice frame); ids may repeat.
+  auto near_in_model = [&](const Box& bounds, double margin, auto&& f) {
+    index.near(bounds, margin, [&](int id) {
+      if (!a.bricks[size_t(box_owner[size_t(id)].first)].frame) f(id);
+    });
+    if (any_turned) turned_index.near(bounds, margin, f);
+  };
 
-  // Meetings keyed by (lower, upper, direction, plane): stud engagements and touching faces.
-  std::map<std::tuple<int, int, int, int64_t>, Meeting> meetings;
-  auto meeting = [&](int lower, int upper, int direction, double plane) -> Meeting& {
-    Meeting& m = meetings[{lower, upper, direction, q(plane)}];
+  // Meetings keyed by (lower, upper, direction, plane, turned): stud engagements and touching
+  // faces.
+  std::map<std::tuple<int, int, int, int64_t, bool>, Meeting> meetings;
+  auto meeting = [&](int lower, int upper, int direction, double plane,
+                     bool in_model = false) -> Meeting& {
+    const bool turned = !in_model && a.bricks[size_t(upper)].frame;
+    Meeting& m = meetings[{lower, upper, direction, q(plane), turned}];
     m.lower = lower, m.upper = upper, m.direction = direction, m.plane = plane;
+    m.turned = turned;
     return m;
   };
 
@@ -305,7 +337,8 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
     for (const Connector& s : shapes[size_t(l)].studs)
       for (int e = receptacles.find(s.at, opposite(s.direction)); e >= 0; e = receptacles[e].next) {
         const int u = receptacles[e].brick;
-        if (u == l || (g.fixed[size_t(l)] && g.fixed[size_t(u)])) continue;
+        if (u == l || (g.fixed[size_t(l)] && g.fixed[size_t(u)]) || frame_of(u) != frame_of(l))
+          continue;
         meeting(l, u, s.direction, s.at[size_t(axis_of(s.direction))])
             .receptacles.push_back(receptacles[e].at);
       }
@@ -322,6 +355,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
       seen.push_back(other);
       const Box& bj = box(other);
       const int j = box_owner[size_t(other)].first;
+      if (frame_of(i) != frame_of(j)) return;
       double overlap[3];
       int touching = -1, shared = 0;
       int wide = 0;
@@ -354,19 +388,27 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   std::sort(g.overlaps.begin(), g.overlaps.end());
   g.overlaps.erase(std::unique(g.overlaps.begin(), g.overlaps.end()), g.overlaps.end());
 
-  // The ground under the bricks that reach it, or settle onto it.
+  // The ground under the bricks that reach it, or settle onto it. A turned frame's up is the
+  // model's (it is turned about the vertical): in its own terms the ground lies lower by the
+  // height of its origin.
   for (int i = 0; i < n; ++i) {
     if (g.fixed[size_t(i)]) continue;
+    const Brick& brick = a.bricks[size_t(i)];
+    double below = 0;  // the frame's origin's height, lattice frame
+    if (brick.frame) below = to_model(brick, Vec3{0, 0, 0})[1];
+    const double frame_ground = ground_y - below;
     for (const Box& b : shapes[size_t(i)].body)
-      if (b.min[1] <= ground_y + kSettle) {
-        Meeting& m = meeting(kGround, i, kPlusY, on_ground(b.min[1]) ? ground_y : b.min[1]);
+      if (b.min[1] <= frame_ground + kSettle) {
+        const bool on = std::abs(b.min[1] - frame_ground) <= kTouch;
+        Meeting& m = meeting(kGround, i, kPlusY, on ? frame_ground : b.min[1]);
         grow(m.patch, m.has_patch, in_plane(b, 1));
         m.support = true;
       }
   }
+  // A turned part's receptacles do not take the baseplate's studs: it rests on them.
   if (ground == GroundMode::Baseplate)
     for (int i = 0; i < n; ++i)
-      if (!g.fixed[size_t(i)])
+      if (!g.fixed[size_t(i)] && !a.bricks[size_t(i)].frame)
         for (const Connector& r : shapes[size_t(i)].receptacles)
           if (r.direction == kMinusY && on_ground(r.at[1]))
             meeting(kGround, i, kPlusY, ground_y).receptacles.push_back(r.at);
@@ -394,12 +436,12 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
       box_of_carried[size_t(c) + 1] = box_of_carried[size_t(c)] + int(reach[size_t(c)].size());
     // What a carried part rests on may be studs (a plant over a stud): they count as body here.
     BoxIndex stud_index;
-    std::vector<Box> stud_boxes;
+    std::vector<OrientedBox> stud_boxes;
     std::vector<int> stud_owner;
     for (int i = 0; i < n; ++i)
       for (const Connector& k : shapes[size_t(i)].studs) {
-        const Box b = stud_box(k, kKnobRimRadius);
-        stud_index.add(b, int(stud_boxes.size()));
+        const OrientedBox b = to_model(a.bricks[size_t(i)], stud_box(k, kKnobRimRadius));
+        stud_index.add(b.bounds(), int(stud_boxes.size()));
         stud_boxes.push_back(b);
         stud_owner.push_back(i);
       }
@@ -415,17 +457,17 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
           const OrientedBox& p = reach[size_t(d)][size_t(other - box_of_carried[size_t(d)])];
           if (touch(o, p, kCarriedReach)) groups.join(c, d);
         });
-        index.near(bounds, kCarriedReach, [&](int id) {
+        near_in_model(bounds, kCarriedReach, [&](int id) {
           const int brick = box_owner[size_t(id)].first;
           auto& t = touched[size_t(c)];
           if (std::find(t.begin(), t.end(), brick) != t.end()) return;
-          if (touch(o, as_oriented(box(id)), kCarriedReach)) t.push_back(brick);
+          if (touch(o, model_box(id), kCarriedReach)) t.push_back(brick);
         });
         stud_index.near(bounds, kCarriedReach, [&](int id) {
           const int brick = stud_owner[size_t(id)];
           auto& t = touched[size_t(c)];
           if (std::find(t.begin(), t.end(), brick) != t.end()) return;
-          if (touch(o, as_oriented(stud_boxes[size_t(id)]), kCarriedReach)) t.push_back(brick);
+          if (touch(o, stud_boxes[size_t(id)], kCarriedReach)) t.push_back(brick);
         });
       }
     std::map<int, int> group_of_root;
@@ -467,7 +509,8 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
       for (int c : group.carried) bottom = std::min(bottom, carried_bottom[size_t(c)]);
       const double reach = group.on_ground ? kSettle : kCarriedReach;
       Meeting& m = meeting(group.on_ground ? kGround : group.rests_on_fixed.front(),
-                           group.joins.front(), kPlusY, group.on_ground ? ground_y : bottom);
+                           group.joins.front(), kPlusY, group.on_ground ? ground_y : bottom,
+                           /*in_model=*/true);
       // It stands on its lowest points: a tyre on a strip across its tread.
       for (int c : group.carried)
         for (const Vec3& p : carried_outline[size_t(c)])
@@ -484,7 +527,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   // A stud connection pointing down or to a low side meets the faces there from the other side.
   for (auto& [key, m] : meetings) {
     if (m.receptacles.empty() || sign_of(m.direction) > 0 || m.lower == kGround) continue;
-    auto face = meetings.find({m.upper, m.lower, opposite(m.direction), q(m.plane)});
+    auto face = meetings.find({m.upper, m.lower, opposite(m.direction), q(m.plane), m.turned});
     if (face == meetings.end() || !face->second.receptacles.empty()) continue;
     if (face->second.has_patch) grow(m.patch, m.has_patch, face->second.patch);
     face->second.has_patch = false;  // one contact for both
@@ -516,6 +559,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
     c.direction = m->direction;
     c.plane = m->plane;
     c.support = m->support;
+    c.turned = m->turned;
     const int axis = axis_of(m->direction), f = kInPlane[axis][0], s = kInPlane[axis][1];
     if (!m->receptacles.empty()) {
       auto& rs = m->receptacles;
@@ -538,7 +582,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
       }
     }
     c.patch = m->patch;
-    if (!c.snap() && c.lower != kGround) {
+    if (!c.snap() && c.lower != kGround && frame_of(c.lower) == frame_of(c.upper)) {
       for (const Connector& k : shapes[size_t(c.lower)].studs) {
         if (k.direction != c.direction || std::abs(k.at[size_t(axis)] - c.plane) > kTouch) continue;
         const double kf = k.at[size_t(f)], ks = k.at[size_t(s)];
@@ -562,18 +606,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   for (const CarriedGroup& group : g.carried_groups) {
     const auto& joins = group.joins;
     if (joins.size() < 2) continue;
-    for (int b : joins) {
-      Vec3 sum{0, 0, 0};
-      double volume = 0;
-      for (const Box& box : shapes[size_t(b)].body) {
-        const double v = std::max(box.volume(), 1e-9);
-        for (int ax = 0; ax < 3; ++ax)
-          sum[size_t(ax)] += v * (box.min[size_t(ax)] + box.max[size_t(ax)]) / 2;
-        volume += v;
-      }
-      for (double& x : sum) x /= volume;
-      centre[size_t(b)] = sum;
-    }
+    for (int b : joins) centre[size_t(b)] = body_centre(a.bricks[size_t(b)]);
     auto distance = [&](int x, int y) {
       double d = 0;
       for (int ax = 0; ax < 3; ++ax)
@@ -606,6 +639,41 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
       for (size_t k = 1; k < joins.size(); ++k)
         if (!in_tree[k] && distance(joins[next], joins[k]) < best[k])
           best[k] = distance(joins[next], joins[k]), link[k] = next;
+    }
+  }
+  // Where parts of two lattices touch (a turned stand on its base), nothing tells how they hold:
+  // they are joined as a carried part joins what it touches (PHYSICS.md "Turned frames").
+  if (any_turned) {
+    std::vector<std::pair<int, int>> pairs;
+    for (int id = 0; id < int(box_owner.size()); ++id) {
+      const int i = box_owner[size_t(id)].first;
+      if (!a.bricks[size_t(i)].frame) continue;
+      const OrientedBox o = model_box(id);
+      near_in_model(o.bounds(), kCarriedReach, [&](int other) {
+        const int j = box_owner[size_t(other)].first;
+        if (frame_of(j) == frame_of(i) || (g.fixed[size_t(i)] && g.fixed[size_t(j)])) return;
+        // Once per pair: from the turned one when only one is, else from the lower frame id.
+        if (a.bricks[size_t(j)].frame && frame_of(j) < frame_of(i)) return;
+        if (touch(o, model_box(other), kCarriedReach))
+          pairs.emplace_back(std::min(i, j), std::max(i, j));
+      });
+    }
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    for (auto [x, y] : pairs) {
+      Contact c;
+      // The ground's part, where one is, below: its side has no equations.
+      c.lower = g.fixed[size_t(y)] ? y : x;
+      c.upper = g.fixed[size_t(y)] ? x : y;
+      c.joint = true;
+      const Vec3 cx = body_centre(a.bricks[size_t(x)]), cy = body_centre(a.bricks[size_t(y)]);
+      for (int ax = 0; ax < 3; ++ax)
+        c.joint_point[size_t(ax)] = (cx[size_t(ax)] + cy[size_t(ax)]) / 2;
+      const int index = int(g.contacts.size());
+      g.contacts_of[size_t(c.lower)].push_back(index);
+      g.contacts_of[size_t(c.upper)].push_back(index);
+      g.contacts.push_back(c);
+      g.lattice_joints.push_back(index);
     }
   }
   return g;

@@ -46,6 +46,9 @@ struct Contact {
   // upper part is placed off the lattice (it would sit on the studs, not on the face).
   bool misaligned = false;
   bool joint = false;
+  // Its plane, patch and friction points are in the lattice frame of `upper`, which lies on a
+  // turned frame (Brick::frame); otherwise, and for a joint, in the model's.
+  bool turned = false;
   Vec3 joint_point{0, 0, 0};                  // lattice frame, LDU
   uint32_t first_point = 0, point_count = 0;  // range in ContactGraph::friction_points
   bool snap() const { return studs > 0; }
@@ -71,6 +74,9 @@ struct ContactGraph {
   std::vector<std::vector<int>> contacts_of;  // per brick: indices into `contacts`
   std::vector<char> fixed;                    // per brick: part of the ground
   std::vector<CarriedGroup> carried_groups;
+  // The assumed-rigid joints where parts of two lattices touch (PHYSICS.md "Turned frames"):
+  // indices into `contacts`.
+  std::vector<int> lattice_joints;
 
   static ContactGraph build(const Assembly& assembly, GroundMode ground);
 };
@@ -78,7 +84,7 @@ struct ContactGraph {
 // The knob rim radius R (LDU).
 inline constexpr double kKnobRimRadius = 6.0;
 
-// The centre of a brick's body (lattice frame, LDU): its boxes' centroid.
+// The centre of a brick's body (the model's lattice frame, LDU): its boxes' centroid.
 Vec3 body_centre(const Brick& brick);
 
 }  // namespace lego::physics

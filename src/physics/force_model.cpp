@@ -144,14 +144,22 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
   s.value.reserve(s.row_index.capacity());
   Builder b(s, centre);
 
+  // A contact's points and directions in the model's frame (studs), where it is turned.
+  auto point_of = [&](const Contact& c, const Vec3& ldu) {
+    return studs(c.turned ? to_model(a.bricks[size_t(c.upper)], ldu) : ldu);
+  };
+  auto model_direction = [&](const Contact& c, const Vec3& d) {
+    return c.turned ? to_model_direction(a.bricks[size_t(c.upper)], d) : d;
+  };
+
   // Friction pulls the upper part towards the lower one, at the knob rim.
   for (int ci = 0; ci < int(g.contacts.size()); ++ci) {
     if (!taken[size_t(ci)]) continue;
     const Contact& c = g.contacts[size_t(ci)];
-    const Vec3 d = unit(axis_of(c.direction), sign_of(c.direction));
+    const Vec3 d = model_direction(c, unit(axis_of(c.direction), sign_of(c.direction)));
     for (uint32_t k = 0; k < c.point_count; ++k) {
       const FrictionPoint& p = g.friction_points[c.first_point + k];
-      const Vec3 at = studs({p.x, p.y, p.z});
+      const Vec3 at = point_of(c, {p.x, p.y, p.z});
       b.apply(c.upper, at, {-d[0], -d[1], -d[2]});
       b.apply(c.lower, at, d);
       b.end_column(ForceKind::Friction, ci);
@@ -179,13 +187,13 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
       continue;
     }
     const int axis = axis_of(c.direction), f = kInPlane[axis][0], sd = kInPlane[axis][1];
-    const Vec3 d = unit(axis, sign_of(c.direction));
+    const Vec3 d = model_direction(c, unit(axis, sign_of(c.direction)));
     auto point = [&](double pf, double ps) {
       Vec3 p{0, 0, 0};
       p[size_t(axis)] = c.plane;
       p[size_t(f)] = pf;
       p[size_t(sd)] = ps;
-      return studs(p);
+      return point_of(c, p);
     };
     // Normal forces at the corners of the patch push the two parts apart.
     for (int corner = 0; corner < 4; ++corner) {
@@ -199,7 +207,7 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
     if (c.support) {
       const Vec3 mid = point((c.patch.u0 + c.patch.u1) / 2, (c.patch.v0 + c.patch.v1) / 2);
       for (int in_plane : {f, sd}) {
-        const Vec3 e = unit(in_plane);
+        const Vec3 e = model_direction(c, unit(in_plane));
         b.apply(c.upper, mid, e);
         b.apply(c.lower, mid, {-e[0], -e[1], -e[2]});
         b.end_column(ForceKind::Support, ci);
@@ -224,15 +232,16 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
     const Vec3 f{load.force_n[0] * 1e3, load.force_n[1] * 1e3, load.force_n[2] * 1e3};  // N -> mN
     std::vector<Vec3> points;
     if (load.spread_over_top_knobs) {
-      const WorldShape w = world_shape(a.bricks[size_t(load.brick)]);
+      const Brick& brick = a.bricks[size_t(load.brick)];
+      const WorldShape w = world_shape(brick);
       for (const Connector& k : w.studs)
-        if (k.direction == kPlusY) points.push_back(studs(k.at));
+        if (k.direction == kPlusY) points.push_back(studs(to_model(brick, k.at)));
       if (points.empty()) {  // no knob on top: the middle of its top face
         Box top = w.body.front();
         for (const Box& bx : w.body)
           if (bx.max[1] > top.max[1]) top = bx;
-        points.push_back(
-            studs({(top.min[0] + top.max[0]) / 2, top.max[1], (top.min[2] + top.max[2]) / 2}));
+        points.push_back(studs(to_model(brick, Vec3{(top.min[0] + top.max[0]) / 2, top.max[1],
+                                                    (top.min[2] + top.max[2]) / 2})));
       }
     } else {
       points.push_back({load.point[0], load.point[1] * kStudsPerPlate, load.point[2]});

@@ -128,6 +128,33 @@ std::vector<Vec3> world_outline(const CarriedPart& part) {
   return out;
 }
 
+Vec3 to_model_direction(const Brick& brick, const Vec3& d) {
+  if (!brick.frame) return d;
+  const auto& r = brick.frame->pose.rotation;
+  const Vec3 l = lattice_from_ldraw(d);  // the flip of y is its own inverse
+  Vec3 out{0, 0, 0};
+  for (int row = 0; row < 3; ++row)
+    for (int k = 0; k < 3; ++k) out[size_t(row)] += r[size_t(3 * row + k)] * l[size_t(k)];
+  return lattice_from_ldraw(out);
+}
+
+Vec3 to_model(const Brick& brick, const Vec3& p) {
+  if (!brick.frame) return p;
+  return lattice_from_ldraw(brick.frame->pose.apply(lattice_from_ldraw(p)));
+}
+
+OrientedBox to_model(const Brick& brick, const Box& box) {
+  OrientedBox o = as_oriented(box);
+  if (!brick.frame) return o;
+  o.centre = to_model(brick, o.centre);
+  for (Vec3& axis : o.axis) axis = to_model_direction(brick, axis);
+  return o;
+}
+
+Box model_bounds(const Brick& brick, const Box& box) {
+  return brick.frame ? to_model(brick, box).bounds() : box;
+}
+
 bool touch(const OrientedBox& a, const OrientedBox& b, double gap) {
   const Vec3 t{b.centre[0] - a.centre[0], b.centre[1] - a.centre[1], b.centre[2] - a.centre[2]};
   auto separated = [&](const Vec3& axis) {

@@ -16,6 +16,7 @@ struct WorldShape {
   std::vector<Box> body;
   std::vector<Connector> studs, receptacles, bores;
 };
+// In the brick's lattice frame: the model's, or its turned frame (Brick::frame) when it has one.
 WorldShape world_shape(const Brick& brick);
 
 // A box turned any way: a carried part's body where the model puts it.
@@ -34,6 +35,15 @@ Box stud_box(const Connector& stud, double radius);
 // Where a carried part reaches (its outline, or its boxes' corners), in the lattice frame.
 std::vector<Vec3> world_outline(const CarriedPart& part);
 OrientedBox as_oriented(const Box& box);
+
+// A point or a direction of a brick's lattice frame (where world_shape puts it) in the model's
+// lattice frame: the same unless the brick lies on a turned frame.
+Vec3 to_model(const Brick& brick, const Vec3& point);
+Vec3 to_model_direction(const Brick& brick, const Vec3& direction);
+// A box of a brick's lattice frame where the model puts it.
+OrientedBox to_model(const Brick& brick, const Box& box);
+// The axis-aligned box around it in the model's lattice frame.
+Box model_bounds(const Brick& brick, const Box& box);
 
 // Whether two boxes come within `gap` of each other (the separating axis test).
 bool touch(const OrientedBox& a, const OrientedBox& b, double gap);

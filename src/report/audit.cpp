@@ -1,6 +1,7 @@
 #include "report/audit.h"
 
 #include <fmt/format.h>
+#include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <chrono>
@@ -48,7 +49,7 @@ std::vector<std::string> apply_loads(Audit& audit, const std::vector<LoadSpec>& 
   std::vector<double> top(assembly.bricks.size(), highest);
   for (size_t i = 0; i < assembly.bricks.size(); ++i) {
     for (const Box& b : physics::world_shape(assembly.bricks[i]).body)
-      top[i] = std::max(top[i], b.max[1]);
+      top[i] = std::max(top[i], physics::model_bounds(assembly.bricks[i], b).max[1]);
     highest = std::max(highest, top[i]);
   }
   for (const LoadSpec& spec : loads) {
@@ -141,7 +142,7 @@ void carry_bricks(Audit& audit, const std::vector<char>& carry, const std::strin
       brick_part.push_back(conversion.brick_part[i]);
       continue;
     }
-    a.carried.push_back(carried_part(*b.type, reason, b.color, b.source, pose_of(b)));
+    a.carried.push_back(carried_part(*b.type, reason, b.color, b.source, model_pose(b)));
     conversion.carried_part.push_back(conversion.brick_part[i]);
   }
   a.bricks = std::move(bricks);
@@ -153,6 +154,25 @@ void carry_bricks(Audit& audit, const std::vector<char>& carry, const std::strin
       loads.push_back(load);
     }
   a.loads = std::move(loads);
+}
+
+// PHYSICS.md "Turned frames": a part on a turned frame is analysed there where it snaps to
+// another part of that frame; alone on its lattice it is carried, as any part at an angle.
+void carry_lone_turned(Audit& audit, physics::GroundMode ground) {
+  const Assembly& a = audit.conversion.assembly;
+  if (std::none_of(a.bricks.begin(), a.bricks.end(), [](const Brick& b) { return b.frame; }))
+    return;
+  const auto graph = physics::ContactGraph::build(a, ground);
+  std::vector<char> alone(a.bricks.size(), 0);
+  for (size_t i = 0; i < a.bricks.size(); ++i) {
+    if (!a.bricks[i].frame) continue;
+    alone[i] = 1;
+    for (int k : graph.contacts_of[i]) {
+      const auto& c = graph.contacts[size_t(k)];
+      if (c.snap() && c.lower != physics::kGround) alone[i] = 0;
+    }
+  }
+  carry_bricks(audit, alone, "turned by an angle that is not a multiple of 90 degrees");
 }
 
 // PHYSICS.md: a part placed off the stud lattice is carried. Where a part's studs and receptacles
@@ -208,7 +228,8 @@ void lower_ground_under_unknown_parts(Audit& audit) {
   if (audit.conversion.skipped.empty() || a.bricks.empty()) return;
   double lowest = std::numeric_limits<double>::infinity();
   for (const Brick& b : a.bricks)
-    for (const Box& box : physics::world_shape(b).body) lowest = std::min(lowest, box.min[1]);
+    for (const Box& box : physics::world_shape(b).body)
+      lowest = std::min(lowest, physics::model_bounds(b, box).min[1]);
   for (const CarriedPart& c : a.carried)
     for (const Vec3& p : physics::world_outline(c)) lowest = std::min(lowest, p[1]);
   double ground = lowest;
@@ -355,6 +376,7 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
   audit.conversion = parts::to_assembly(audit.model, library,
                                         fixed_parts(audit.model, options.ground_parts, audit.file));
   lower_ground_under_unknown_parts(audit);
+  carry_lone_turned(audit, options.stability.ground);
   carry_unconnected(audit, options.stability.ground);
   audit.parts_seconds = seconds_since(start);
   if (audit.conversion.assembly.bricks.empty()) {

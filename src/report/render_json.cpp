@@ -113,6 +113,13 @@ json render_json(const Audit& a, const AuditOptions& options) {
     for (int b : group.joins) joins.push_back(brick_json(a, b));
     j["joints"].push_back({{"through", through}, {"joins", joins}});
   }
+  // Where two lattices touch, nothing is carried through: "through" is empty.
+  for (int k : r.graph.lattice_joints) {
+    const auto& c = r.graph.contacts[size_t(k)];
+    j["joints"].push_back(
+        {{"through", json::array()},
+         {"joins", json::array({brick_json(a, c.lower), brick_json(a, c.upper)})}});
+  }
   j["status"] = physics::to_string(r.status);
   j["unbalanced"] = json::array();
   for (int b : r.unbalanced) j["unbalanced"].push_back(brick_json(a, b));

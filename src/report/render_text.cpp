@@ -110,6 +110,17 @@ std::string render_text(const Audit& a, bool quiet) {
     line("  assumed rigid joint through " + by + ":");
     for (int b : group.joins) line("    " + describe_brick(a, b));
   }
+  const auto& lattice = r.graph.lattice_joints;
+  if (!lattice.empty())
+    line(
+        fmt::format("  assumed rigid {} where parts of two lattices touch (a submodel placed at "
+                    "an angle, analysed in its own frame):",
+                    plural(lattice.size(), "joint")));
+  for (size_t i = 0; i < lattice.size() && i < 20; ++i) {
+    const auto& c = r.graph.contacts[size_t(lattice[i])];
+    line("    " + describe_brick(a, c.lower) + " and " + describe_brick(a, c.upper));
+  }
+  if (lattice.size() > 20) line(fmt::format("    and {} more", lattice.size() - 20));
   const auto& c = r.connectivity;
   int grounded = 0;
   for (char g : c.grounded) grounded += g;
@@ -133,7 +144,7 @@ std::string render_text(const Audit& a, bool quiet) {
   // part twice in one place is a mistake.
   for (auto [x, y] : r.graph.overlaps) {
     const Brick &bx = assembly.bricks[size_t(x)], &by = assembly.bricks[size_t(y)];
-    const Pose px = pose_of(bx), py = pose_of(by);
+    const Pose px = model_pose(bx), py = model_pose(by);
     if (bx.type->part == by.type->part && px.origin == py.origin && px.rotation == py.rotation)
       line(fmt::format("    duplicated parts: {} and {}", describe_brick(a, x),
                        describe_brick(a, y)));
