@@ -43,10 +43,10 @@ inline int lattice_direction(int ldraw_direction) {
   return axis_of(ldraw_direction) == 1 ? opposite(ldraw_direction) : ldraw_direction;
 }
 
-// A lattice of its own (PHYSICS.md "Turned frames"): the parts inside a submodel that the model
-// turns about the vertical by an angle that is not a multiple of 90 degrees (a stand turned on
-// its base) lie on the submodel's lattice. Their poses are in that frame, and `pose` puts the frame
-// in the model.
+// A lattice of its own (README "What it analyses", turned lattices): the parts inside a submodel
+// that the model turns about the vertical by an angle that is not a multiple of 90 degrees (a stand
+// turned on its base) lie on the submodel's lattice. Their poses are in that frame, and `pose` puts
+// the frame in the model.
 struct LatticeFrame {
   int id = 0;  // bricks whose frames share an id share one lattice
   Pose pose;   // any rotation

@@ -240,7 +240,8 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
     receptacle_count += shapes.back().receptacles.size() + shapes.back().bores.size();
     any_turned = any_turned || b.frame;
   }
-  // Parts meet by their studs and faces only on one lattice (PHYSICS.md "Turned frames").
+  // Parts meet by their studs and faces only on one lattice (README "What it analyses", turned
+  // lattices).
   auto frame_of = [&](int i) {
     return a.bricks[size_t(i)].frame ? a.bricks[size_t(i)].frame->id : -1;
   };
@@ -642,7 +643,8 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
     }
   }
   // Where parts of two lattices touch (a turned stand on its base), nothing tells how they hold:
-  // they are joined as a carried part joins what it touches (PHYSICS.md "Turned frames").
+  // they are joined as a carried part joins what it touches (README "What it analyses", turned
+  // lattices).
   if (any_turned) {
     std::vector<std::pair<int, int>> pairs;
     for (int id = 0; id < int(box_owner.size()); ++id) {

@@ -74,8 +74,8 @@ struct ContactGraph {
   std::vector<std::vector<int>> contacts_of;  // per brick: indices into `contacts`
   std::vector<char> fixed;                    // per brick: part of the ground
   std::vector<CarriedGroup> carried_groups;
-  // The assumed-rigid joints where parts of two lattices touch (PHYSICS.md "Turned frames"):
-  // indices into `contacts`.
+  // The assumed-rigid joints where parts of two lattices touch (README "What it analyses", turned
+  // lattices): indices into `contacts`.
   std::vector<int> lattice_joints;
 
   static ContactGraph build(const Assembly& assembly, GroundMode ground);

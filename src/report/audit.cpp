@@ -156,8 +156,8 @@ void carry_bricks(Audit& audit, const std::vector<char>& carry, const std::strin
   a.loads = std::move(loads);
 }
 
-// PHYSICS.md "Turned frames": a part on a turned frame is analysed there where it snaps to
-// another part of that frame; alone on its lattice it is carried, as any part at an angle.
+// README "What it analyses", turned lattices: a part on a turned frame is analysed there where it
+// snaps to another part of that frame; alone on its lattice it is carried, as any part at an angle.
 void carry_lone_turned(Audit& audit, physics::GroundMode ground) {
   const Assembly& a = audit.conversion.assembly;
   if (std::none_of(a.bricks.begin(), a.bricks.end(), [](const Brick& b) { return b.frame; }))
