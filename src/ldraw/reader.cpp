@@ -391,8 +391,7 @@ class Flattener {
   std::vector<std::unique_ptr<Document>> documents_;
   std::map<fs::path, const Document*> external_;
   std::vector<const Block*> stack_;
-  std::vector<SubmodelPlacement> inside_;  // the placements being expanded, outermost first
-  int placements_ = 0;
+  int inside_ = -1;  // the placement being expanded (Model::placements), -1: the main model
   CaseInsensitiveFinder finder_;
   bool budget_exceeded_ = false;
   // Building steps: the main model's, and a submodel's own where it is first placed (as LPub3D
@@ -610,7 +609,12 @@ class Flattener {
         model_.submodels.end())
       model_.submodels.push_back(target.name);
     stack_.push_back(&target);
-    inside_.push_back({placements_++, ref.transform});
+    // Recorded only where it places a part: an expansion of nothing costs no memory.
+    const size_t placements_before = model_.placements.size();
+    const size_t parts_before = model_.parts.size();
+    const int outer = inside_;
+    model_.placements.push_back({outer, ref.transform});
+    inside_ = int(placements_before);
     const bool first = placed_.insert(&target).second;
     for (const Entry& entry : target.entries) {
       if (const auto* child = std::get_if<RefLine>(&entry))
@@ -618,7 +622,8 @@ class Flattener {
       else if (first && parts_in_step() > 0)  // its own step, the first time it is placed
         end_step(std::get<StepMark>(entry).rotstep);
     }
-    inside_.pop_back();
+    inside_ = outer;
+    if (model_.parts.size() == parts_before) model_.placements.resize(placements_before);
     stack_.pop_back();
   }
 };

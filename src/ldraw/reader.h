@@ -21,10 +21,11 @@ struct Diagnostic {
   std::string text() const;  // "file:line: error: message"
 };
 
-// A submodel reference that a placed part is inside: which placement of a submodel it is (a
-// number in reading order, so two placements of one submodel differ) and its line's transform.
+// A submodel reference as it was expanded: the placement holding it (an index into
+// Model::placements, -1 for the main model) and its line's transform. Each expansion is one, so
+// two placements of one submodel differ.
 struct SubmodelPlacement {
-  int instance = 0;
+  int parent = -1;
   Transform transform;
 };
 
@@ -34,10 +35,11 @@ struct PlacedPart {
   std::string reference;  // as written on the type-1 line
   int color = kMainColor;
   Transform transform;  // world placement
-  // How: the submodel placements it is inside, outermost first, then its own line's transform.
-  // Their product is `transform`; each is exactly as written, so what lies on a lattice inside a
-  // submodel placed at an angle stays exactly on it there.
-  std::vector<SubmodelPlacement> inside;
+  // How: the innermost submodel placement holding its line (Model::placements, -1 for the main
+  // model) and the line's own transform. The placements' product with it is `transform`; each is
+  // exactly as written, so what lies on a lattice inside a submodel placed at an angle stays
+  // exactly on it there.
+  int inside = -1;
   Transform local;
   std::string file;  // where the type-1 line that placed it is
   int line = 0;
@@ -60,6 +62,7 @@ struct Model {
   std::string main_block;                      // name of the main model's FILE block
   std::vector<std::string> submodels;          // model blocks used while flattening (no parts)
   std::vector<PlacedPart> parts;
+  std::vector<SubmodelPlacement> placements;  // those that hold a part, directly or not
   std::vector<Step> steps;
   std::vector<Color> colors;  // `0 !COLOUR` definitions found in the file
   // What the colours are called and look like: ours (ldraw_parts/LDConfig.ldr), then the

@@ -166,22 +166,29 @@ struct FramedPart {
 };
 // The main file's own lattice is such a frame where the model is analysed turned (model_frame)
 // and a part of the main file is not (the outvoted bricks beside a turned building).
-constexpr int kMainFileFrame = -2;  // placement instances count from 0
-std::optional<FramedPart> turned_frame(const ldraw::PlacedPart& p, ldraw::Transform outer) {
-  for (size_t j = 0; j <= p.inside.size(); ++j) {  // j = 0: the main file; j: inside[j - 1]
-    if (j > 0) outer = outer.then(p.inside[j - 1].transform);
+constexpr int kMainFileFrame = -2;  // Model::placements count from 0
+std::optional<FramedPart> turned_frame(const ldraw::Model& model, const ldraw::PlacedPart& p,
+                                       ldraw::Transform outer) {
+  std::vector<int> inside;  // the placements holding it, outermost first
+  for (int k = p.inside; k >= 0; k = model.placements[size_t(k)].parent) inside.push_back(k);
+  std::reverse(inside.begin(), inside.end());
+  auto placed = [&](size_t k) -> const ldraw::Transform& {
+    return model.placements[size_t(inside[k])].transform;
+  };
+  for (size_t j = 0; j <= inside.size(); ++j) {  // j = 0: the main file; j: inside[j - 1]
+    if (j > 0) outer = outer.then(placed(j - 1));
     const auto turn = orthonormalized(outer.rot, kRotationTolerance);
     if (!turn) return std::nullopt;
     if (quarter_turn(*turn, kQuarterTurnTolerance)) continue;
     if ((*turn)[4] < 1 - kRotationTolerance) return std::nullopt;  // tilted
     ldraw::Transform inner;
-    for (size_t k = j; k < p.inside.size(); ++k) inner = inner.then(p.inside[k].transform);
+    for (size_t k = j; k < inside.size(); ++k) inner = inner.then(placed(k));
     inner = inner.then(p.local);
     const auto rotation = orthonormalized(inner.rot, 1e-6);
     const auto quarter = rotation ? quarter_turn(*rotation, 1e-6) : std::nullopt;
     if (!quarter) return std::nullopt;
     FramedPart out;
-    out.frame.id = j == 0 ? kMainFileFrame : p.inside[j - 1].instance;
+    out.frame.id = j == 0 ? kMainFileFrame : inside[j - 1];
     out.frame.pose.rotation = *turn;
     out.frame.pose.origin = outer.pos;
     out.pose.rotation = *quarter;
@@ -263,7 +270,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     std::optional<FramedPart> framed;
     if (carried_reason.empty()) {
       turn = quarter_turn(rotation, kQuarterTurnTolerance);
-      if (!turn) framed = turned_frame(p, in_frame(ldraw::Transform{}));
+      if (!turn) framed = turned_frame(model, p, in_frame(ldraw::Transform{}));
       if (!turn && !framed)
         carried_reason = "turned by an angle that is not a multiple of 90 degrees";
     }

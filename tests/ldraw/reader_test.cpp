@@ -72,6 +72,37 @@ TEST(Reader, MpdSubmodelsComposeTransformsAndInheritColour) {
   EXPECT_EQ(m.main_block, "main.ldr");
 }
 
+// Each part keeps the submodel placements that hold it, exactly as written: their product with
+// its own line is its world transform. A placement that holds no part is not kept.
+TEST(Reader, PartsKeepTheSubmodelPlacementsThatHoldThem) {
+  Model m = read_text(
+      "0 FILE main.ldr\n"
+      "1 16 5 0 0 0.866025 0 0.5 0 1 0 -0.5 0 0.866025 a.ldr\n"
+      "1 16 0 0 0 1 0 0 0 1 0 0 0 1 empty.ldr\n"
+      "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "0 FILE a.ldr\n1 16 0 -24 20 0 0 1 0 1 0 -1 0 0 b.ldr\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 "
+      "empty.ldr\n"
+      "0 FILE b.ldr\n1 1 10 -8 0 1 0 0 0 1 0 0 0 1 3020.dat\n"
+      "0 FILE empty.ldr\n0 nothing here\n",
+      "nested.mpd");
+  ASSERT_EQ(m.parts.size(), 2u);
+  EXPECT_EQ(m.placements.size(), 2u);  // a.ldr and b.ldr inside it; neither empty.ldr
+  const PlacedPart& plate = m.parts[0];
+  EXPECT_EQ(plate.part, "3020");
+  ASSERT_GE(plate.inside, 0);
+  std::vector<int> chain;
+  for (int k = plate.inside; k >= 0; k = m.placements[size_t(k)].parent)
+    chain.insert(chain.begin(), k);
+  ASSERT_EQ(chain.size(), 2u);
+  Transform world;
+  for (int k : chain) world = world.then(m.placements[size_t(k)].transform);
+  world = world.then(plate.local);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(world.pos[i], plate.transform.pos[i], 1e-9);
+  for (int i = 0; i < 9; ++i) EXPECT_NEAR(world.rot[i], plate.transform.rot[i], 1e-9);
+  EXPECT_EQ(plate.local.pos[0], 10);
+  EXPECT_EQ(m.parts[1].inside, -1);  // the main model's own brick
+}
+
 TEST(Reader, RecordsStepsAndRotsteps) {
   Model m = read_text(
       "0 m\n1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 ROTSTEP 0 90 0 REL\n"
