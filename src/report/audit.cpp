@@ -356,6 +356,11 @@ std::string describe_carried(const Audit& audit, int carried) {
                      c.part, audit.model.color_table.name(c.color), pos[0], pos[1], pos[2]);
 }
 
+int turned_lattice_bricks(const Assembly& assembly) {
+  return int(std::count_if(assembly.bricks.begin(), assembly.bricks.end(),
+                           [](const Brick& b) { return b.frame.has_value(); }));
+}
+
 Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
                  parts::PartLibrary& library) {
   Audit audit;

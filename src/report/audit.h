@@ -97,5 +97,7 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
 std::string describe_brick(const Audit& audit, int brick);
 // The same for a carried part (an index into Assembly::carried).
 std::string describe_carried(const Audit& audit, int carried);
+// How many bricks lie on a lattice of their own (Brick::frame), as reports count them.
+int turned_lattice_bricks(const Assembly& assembly);
 
 }  // namespace lego::report

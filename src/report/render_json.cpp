@@ -55,6 +55,7 @@ json render_json(const Audit& a, const AuditOptions& options) {
   j["main_model"] = a.model.main_block;
   j["parts"] = a.model.parts.size();
   j["bricks"] = a.conversion.assembly.bricks.size();  // analysed as structure
+  j["turned"] = turned_lattice_bricks(a.conversion.assembly);
   j["carried"] = json::array();
   for (size_t i = 0; i < a.conversion.assembly.carried.size(); ++i) {
     const CarriedPart& c = a.conversion.assembly.carried[i];

@@ -81,9 +81,11 @@ std::string render_text(const Audit& a, bool quiet) {
   for (const auto& d : a.model.diagnostics) line("  " + d.text());
   for (const auto& d : a.conversion.diagnostics) line("  " + d.text());
   const auto& parts = a.model.parts;
-  line(fmt::format("  parts: {} placed: {} analysed as structure, {} carried, {} left out",
-                   parts.size(), assembly.bricks.size(), assembly.carried.size(),
-                   a.conversion.skipped.size()));
+  const int turned = turned_lattice_bricks(assembly);
+  line(fmt::format("  parts: {} placed: {} analysed as structure{}, {} carried, {} left out",
+                   parts.size(), assembly.bricks.size(),
+                   turned ? fmt::format(" ({} on turned lattices)", turned) : "",
+                   assembly.carried.size(), a.conversion.skipped.size()));
   size_t estimated = 0;
   for (const auto& t : a.conversion.types->types())
     estimated += t.mass_source.starts_with("estimated");

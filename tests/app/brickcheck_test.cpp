@@ -159,6 +159,7 @@ TEST(Brickcheck, ASubmodelTurnedAboutTheVerticalIsAnalysedOnItsOwnLattice) {
       std::ofstream(path) << turned_stand(degrees);
       json j = check_json({"--ground", ground, path.string()}, 0);
       EXPECT_EQ(j["bricks"], 7) << degrees;
+      EXPECT_EQ(j["turned"], degrees == 0 ? 0 : 3) << degrees;
       EXPECT_TRUE(j["carried"].empty()) << degrees << j["carried"];
       if (degrees == 0) cm[ground[0]] = j["cm_gf"];
       EXPECT_NEAR(j["cm_gf"].get<double>(), cm[ground[0]], 1e-6 * cm[ground[0]]) << degrees;
