@@ -238,7 +238,7 @@ report::AuditOptions corpus_options(const fs::path& shared, double max_seconds) 
 void corpus_section(const fs::path& shared, double max_seconds) {
   const fs::path corpus = shared / "ldraw-corpus", library = shared / "ldraw-library";
   int models = 0, with_cm = 0, floating = 0, unreadable = 0;
-  size_t parts = 0, analysed = 0, carried = 0, left_out = 0;
+  size_t parts = 0, analysed = 0, turned = 0, carried = 0, left_out = 0;
   std::vector<double> times;
   std::string slowest;
   std::map<std::string, int> reasons;
@@ -254,6 +254,7 @@ void corpus_section(const fs::path& shared, double max_seconds) {
     floating += !a.stability.connectivity.all_grounded();
     parts += a.model.parts.size();
     analysed += a.conversion.assembly.bricks.size();
+    turned += size_t(report::turned_lattice_bricks(a.conversion.assembly));
     carried += a.conversion.assembly.carried.size();
     left_out += a.conversion.skipped.size();
     for (const auto& c : a.conversion.assembly.carried) ++reasons[c.reason];
@@ -269,6 +270,8 @@ void corpus_section(const fs::path& shared, double max_seconds) {
              share(double(analysed), double(parts)), share(double(carried), double(parts)),
              share(double(left_out), double(parts)), share(floating, models), unreadable,
              number(median(times)), number(*std::max_element(times.begin(), times.end())), slowest);
+  fmt::print("analysed on turned lattices: {} occurrences ({})\n", turned,
+             share(double(turned), double(parts)));
   std::vector<std::pair<int, std::string>> ranked;
   for (const auto& [reason, n] : reasons) ranked.emplace_back(n, reason);
   std::sort(ranked.rbegin(), ranked.rend());
