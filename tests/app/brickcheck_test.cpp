@@ -133,12 +133,13 @@ TEST(Brickcheck, ACarriedPartHoldsWhatItsStudsReachInto) {
 // A stand of three 2x4 bricks, each a stud further out, in a submodel the main model turns by
 // `degrees` about the vertical, beside four bricks on the model's own lattice (so that the
 // model's frame stays the model's). `base` puts a 2x8 plate under the stand.
-std::string turned_stand(double degrees, bool base = false) {
+std::string turned_stand(double degrees, bool base = false, bool mirrored = false) {
   const double c = std::cos(degrees * M_PI / 180), s = std::sin(degrees * M_PI / 180);
+  const double m = mirrored ? -1 : 1;  // x mirrored before the turn
   std::string out = "0 FILE main.ldr\n0 turned stand\n";
   out += base ? "1 7 0 16 0 1 0 0 0 1 0 0 0 1 3034.dat\n" : "";
   out += fmt::format("1 16 0 {} 0 {:.6f} 0 {:.6f} 0 1 0 {:.6f} 0 {:.6f} stand.ldr\n", base ? -8 : 0,
-                     c, s, -s, c);
+                     m * c, s, -m * s, c);
   for (int k = 0; k < 4; ++k)
     out += fmt::format("1 14 400 0 {} 1 0 0 0 1 0 0 0 1 3001.dat\n", 100 * k);
   return out +
@@ -166,6 +167,11 @@ TEST(Brickcheck, ASubmodelTurnedAboutTheVerticalIsAnalysedOnItsOwnLattice) {
       EXPECT_EQ(j["weakest"][0]["b"]["line"], 11) << degrees;  // the bottom brick holding the next
     }
   EXPECT_LT(cm['b'], 71.658);  // the cantilever needs friction
+  // Mirrored as well as turned: the same C_M.
+  std::ofstream(path) << turned_stand(30, false, /*mirrored=*/true);
+  json mirrored = check_json({path.string()}, 0);
+  EXPECT_EQ(mirrored["turned"], 3);
+  EXPECT_NEAR(mirrored["cm_gf"].get<double>(), cm['b'], 1e-6 * cm['b']);
 
   // A submodel placed by quarter turns inside the turned one shares its lattice; where the
   // turned parts outvote the main file's (the model is then analysed in their frame), the main
