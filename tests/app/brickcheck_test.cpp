@@ -208,6 +208,29 @@ TEST(Brickcheck, WhereTwoLatticesTouchTheJointIsNamed) {
   EXPECT_NE(text.out.find("assumed rigid 1 joint where parts of two lattices touch"),
             std::string::npos)
       << text.out;
+  // The heat map puts the stand where the model does: each of its bricks where the flattened
+  // model has it (to the writer's decimals), the joint named.
+  auto heat = scratch("turned-heat.ldr");
+  fs::remove(heat);
+  EXPECT_EQ(run_tool("brickcheck", {"--heatmap", heat.string(), path.string()}).exit_code, 0);
+  const ldraw::Model drawn = ldraw::read_file(heat), read = ldraw::read_file(path);
+  ASSERT_EQ(drawn.parts.size(), read.parts.size());
+  for (const auto& p : read.parts) {
+    bool found = false;
+    for (const auto& q : drawn.parts) {
+      bool same = p.part == q.part;
+      for (int k = 0; k < 3 && same; ++k)
+        same = std::abs(p.transform.pos[k] - q.transform.pos[k]) < 1e-2;
+      for (int k = 0; k < 9 && same; ++k)
+        same = std::abs(p.transform.rot[k] - q.transform.rot[k]) < 1e-3;
+      found = found || same;
+    }
+    EXPECT_TRUE(found) << p.part << " at line " << p.line;
+  }
+  std::ifstream in(heat);
+  const std::string drawn_text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(drawn_text.find("0 // assumed rigid joint where two lattices touch"),
+            std::string::npos);
 
   std::ofstream(path) << "0 FILE main.ldr\n0 one turned brick, one tilted pair\n"
                          "1 16 0 0 0 0.866025 0 0.5 0 1 0 -0.5 0 0.866025 one.ldr\n"

@@ -1,6 +1,8 @@
 // Placed parts into an Assembly: analysed with their exact pose, carried, or left out with why.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "ldraw/writer.h"
 #include "parts/assembly_builder.h"
 #include "test_paths.h"
@@ -43,6 +45,45 @@ TEST(ToAssembly, TurnsByQuarterTurnsAreAnalysedOtherAnglesCarried) {
   // Poses are LDraw's own: written back, the bricks land where they were read.
   const auto t = ldraw::brick_transform(conv.assembly.bricks[2], conv.assembly.origin_ldu);
   EXPECT_EQ(t.pos, (std::array<double, 3>{5, -24, 0}));
+}
+
+// Inside a submodel turned about the vertical, parts lie on the submodel's lattice: each gets the
+// frame of that placement and its exact pose in it, and written back it lands where it was read.
+TEST(ToAssembly, PartsOfATurnedSubmodelLieOnItsLattice) {
+  ldraw::Model m = read_text(
+      "0 FILE main.ldr\n"
+      "1 16 10 0 5 0.57 0 0.82 0 1 0 -0.82 0 0.57 stand.ldr\n"
+      "1 16 300 0 0 0.57 0 0.82 0 1 0 -0.82 0 0.57 stand.ldr\n"
+      "1 4 0 -24 400 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 4 0 -48 400 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 4 0 -72 400 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 4 0 -96 400 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 4 0 -120 400 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "0 FILE stand.ldr\n"
+      "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 4 10 -24 0 0 0 1 0 1 0 -1 0 0 3001.dat\n",
+      "m.mpd");
+  PartLibrary library({}, BrickCatalog::standard());
+  auto conv = to_assembly(m, library);
+  ASSERT_EQ(conv.assembly.bricks.size(), 9u);  // more upright than turned: the model's frame
+  EXPECT_TRUE(conv.assembly.carried.empty());
+  std::set<int> frames;
+  for (size_t i = 0; i < conv.assembly.bricks.size(); ++i) {
+    const Brick& b = conv.assembly.bricks[i];
+    const ldraw::PlacedPart& p = m.parts[conv.brick_part[i]];
+    if (p.inside < 0) {
+      EXPECT_FALSE(b.frame) << p.line;
+      continue;
+    }
+    ASSERT_TRUE(b.frame) << p.line;
+    frames.insert(b.frame->id);
+    EXPECT_EQ(b.pose->origin, p.local.pos);  // the file's own numbers, on the lattice
+    const auto t = ldraw::brick_transform(b, conv.assembly.origin_ldu);
+    // To the matrix's two decimals: the frame is the rotation nearest to it.
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(t.pos[size_t(k)], p.transform.pos[size_t(k)], 5e-2);
+    for (int k = 0; k < 9; ++k) EXPECT_NEAR(t.rot[size_t(k)], p.transform.rot[size_t(k)], 1e-2);
+  }
+  EXPECT_EQ(frames.size(), 2u);  // one lattice per placement
 }
 
 // A model drawn turned as a whole (a car tilted by a degree on its springs) is analysed in its own
