@@ -44,13 +44,17 @@ inline int lattice_direction(int ldraw_direction) {
 }
 
 // A lattice of its own (README "What it analyses", turned lattices): the parts inside a submodel
-// that the model turns about the vertical by an angle that is not a multiple of 90 degrees (a stand
-// turned on its base) lie on the submodel's lattice. Their poses are in that frame, and `pose` puts
-// the frame in the model.
+// that the model places at an angle that is not a multiple of 90 degrees (a stand turned on its
+// base, a roof tilted on hinges) lie on the submodel's lattice. Their poses are in that frame, and
+// `pose` puts the frame in the model.
 struct LatticeFrame {
   int id = 0;  // bricks whose frames share an id share one lattice
   Pose pose;   // any rotation
 };
+// Whether a frame's up is not the model's (by more than the degree a quarter turn allows).
+inline bool tilted(const LatticeFrame& frame) {
+  return frame.pose.rotation[4] < 0.9994;  // cos 2°
+}
 
 // A brick on the lattice: the lattice cell of its minimum corner, turned 0 or 90 degrees about
 // the vertical. At 0 degrees its length runs along x; at 90 degrees along z. A part read from

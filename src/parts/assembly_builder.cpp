@@ -155,11 +155,7 @@ double plate_slip(double y, double offset) {
 // README "What it analyses", turned lattices: a part turned by an angle that is not a multiple of
 // 90 degrees lies on a lattice of its own when a submodel placement turned it: the outermost
 // placement whose turn is not a quarter turn (`outer`, in the model's frame) is that lattice, and
-// what lies inside it (its file's exact numbers) must place the part on a quarter turn there. Only
-// a turn about the vertical: on a tilted lattice gravity pulls across the studs, and a connection's
-// support force, one per contact at its centre, cannot hold the twist that makes about the stud
-// axis (the corpus's small shuttle: a tail fin on two studs, its engine tilted 45 degrees, had no
-// equilibrium).
+// what lies inside it (its file's exact numbers) must place the part on a quarter turn there.
 struct FramedPart {
   LatticeFrame frame;
   Pose pose;
@@ -180,7 +176,6 @@ std::optional<FramedPart> turned_frame(const ldraw::Model& model, const ldraw::P
     const auto turn = orthonormalized(outer.rot, kRotationTolerance);
     if (!turn) return std::nullopt;
     if (quarter_turn(*turn, kQuarterTurnTolerance)) continue;
-    if ((*turn)[4] < 1 - kRotationTolerance) return std::nullopt;  // tilted
     ldraw::Transform inner;
     for (size_t k = j; k < inside.size(); ++k) inner = inner.then(placed(k));
     inner = inner.then(p.local);

@@ -396,7 +396,10 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
     if (g.fixed[size_t(i)]) continue;
     const Brick& brick = a.bricks[size_t(i)];
     double below = 0;  // the frame's origin's height, lattice frame
-    if (brick.frame) below = to_model(brick, Vec3{0, 0, 0})[1];
+    if (brick.frame) {
+      if (tilted(*brick.frame)) continue;  // its faces are not level: it stands on no ground
+      below = to_model(brick, Vec3{0, 0, 0})[1];
+    }
     const double frame_ground = ground_y - below;
     for (const Box& b : shapes[size_t(i)].body)
       if (b.min[1] <= frame_ground + kSettle) {

@@ -176,14 +176,16 @@ std::string render_text(const Audit& a, bool quiet) {
                        s.stable ? "" : "  <- does not stand"));
     }
   }
-  line(
-      fmt::format("  time: parse {:.3f} s, parts {:.3f} s, graph {:.3f} s, build LP {:.3f} s, "
-                  "solve {:.3f} s ({} rows, {} columns){}",
-                  a.parse_seconds, a.parts_seconds, r.stats.graph_seconds, r.stats.build_seconds,
-                  r.stats.solve_seconds, r.stats.rows, r.stats.columns,
-                  a.analyses > 1 ? "; two analyses, the first naming the parts that rest where "
-                                   "they cannot stay"
-                                 : ""));
+  line(fmt::format(
+      "  time: parse {:.3f} s, parts {:.3f} s, graph {:.3f} s, build LP {:.3f} s, "
+      "solve {:.3f} s ({} rows, {} columns){}",
+      a.parse_seconds, a.parts_seconds, r.stats.graph_seconds, r.stats.build_seconds,
+      r.stats.solve_seconds, r.stats.rows, r.stats.columns,
+      a.analyses > 1 ? fmt::format("; {} analyses, each before the last naming parts carried "
+                                   "since (resting where they cannot stay, or on a tilted "
+                                   "lattice that nothing holds)",
+                                   a.analyses)
+                     : ""));
   return out;
 }
 
