@@ -41,19 +41,7 @@ Pose pose_of(const Brick& b) {
 }
 
 Pose model_pose(const Brick& b) {
-  const Pose local = pose_of(b);
-  if (!b.frame) return local;
-  const Pose& f = b.frame->pose;
-  Pose out;
-  out.origin = f.apply(local.origin);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
-      double v = 0;
-      for (int k = 0; k < 3; ++k)
-        v += f.rotation[size_t(3 * r + k)] * local.rotation[size_t(3 * k + c)];
-      out.rotation[size_t(3 * r + c)] = v;
-    }
-  return out;
+  return b.frame ? b.frame->pose.then(pose_of(b)) : pose_of(b);
 }
 
 }  // namespace lego

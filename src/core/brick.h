@@ -30,6 +30,25 @@ struct Pose {
       for (int k = 0; k < 3; ++k) out[r] += rotation[3 * r + k] * local[k];
     return out;
   }
+  // A direction of the part's frame in LDraw's frame.
+  Vec3 rotate(const Vec3& direction) const {
+    Vec3 out{0, 0, 0};
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) out[r] += rotation[3 * r + k] * direction[k];
+    return out;
+  }
+  // This pose after `inner`: where `inner` puts a part, taken through this pose.
+  Pose then(const Pose& inner) const {
+    Pose out;
+    out.origin = apply(inner.origin);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        double v = 0;
+        for (int k = 0; k < 3; ++k) v += rotation[3 * r + k] * inner.rotation[3 * k + c];
+        out.rotation[3 * r + c] = v;
+      }
+    return out;
+  }
   // A direction of the part's frame in LDraw's frame (rotation must be a signed permutation).
   int turn(int direction) const;
 };

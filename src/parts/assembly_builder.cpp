@@ -224,6 +224,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     return out_t;
   };
   const double plates = plate_offset(model, in_frame);
+  const ldraw::Transform model_turn = in_frame(ldraw::Transform{});  // Fᵀ: where lattices start
   // The same part placed twice in one place (a common slip in LDraw editors, which draw one): the
   // copies are left out, each naming the first, so that they neither weigh nor collide.
   std::map<std::string, size_t> first_at;
@@ -265,7 +266,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     std::optional<FramedPart> framed;
     if (carried_reason.empty()) {
       turn = quarter_turn(rotation, kQuarterTurnTolerance);
-      if (!turn) framed = turned_frame(model, p, in_frame(ldraw::Transform{}));
+      if (!turn) framed = turned_frame(model, p, model_turn);
       if (!turn && !framed)
         carried_reason = "turned by an angle that is not a multiple of 90 degrees";
     }

@@ -235,10 +235,16 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   shapes.reserve(size_t(n));
   size_t receptacle_count = 0;
   bool any_turned = false;
+  std::vector<double> brick_bottom;  // each brick's lowest point in the model (lattice frame)
+  brick_bottom.reserve(size_t(n));
   for (const Brick& b : a.bricks) {
     shapes.push_back(world_shape(b));
     receptacle_count += shapes.back().receptacles.size() + shapes.back().bores.size();
     any_turned = any_turned || b.frame;
+    double bottom = 1e300;
+    for (const Box& box : shapes.back().body)
+      bottom = std::min(bottom, model_bounds(b, box).min[1]);
+    brick_bottom.push_back(bottom);
   }
   // Parts meet by their studs and faces only on one lattice (README "What it analyses", turned
   // lattices).
@@ -266,17 +272,14 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
       any = true;
     };
     for (int i = 0; i < n; ++i)
-      for (const Box& b : shapes[size_t(i)].body)
-        lowest(model_bounds(a.bricks[size_t(i)], b).min[1]);
+      if (!shapes[size_t(i)].body.empty()) lowest(brick_bottom[size_t(i)]);
     for (double bottom : carried_bottom)
       if (bottom < 1e299) lowest(bottom);
   }
   const double ground_y = g.ground_height;
   auto on_ground = [&](double y) { return std::abs(y - ground_y) <= kTouch; };
   for (int i = 0; i < n; ++i) {
-    bool bottom = false;
-    for (const Box& b : shapes[size_t(i)].body)
-      bottom = bottom || model_bounds(a.bricks[size_t(i)], b).min[1] <= ground_y + kSettle;
+    const bool bottom = brick_bottom[size_t(i)] <= ground_y + kSettle;
     g.fixed[size_t(i)] =
         a.bricks[size_t(i)].fixed || (a.bricks[size_t(i)].type->baseplate && bottom);
   }
@@ -389,9 +392,9 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   std::sort(g.overlaps.begin(), g.overlaps.end());
   g.overlaps.erase(std::unique(g.overlaps.begin(), g.overlaps.end()), g.overlaps.end());
 
-  // The ground under the bricks that reach it, or settle onto it. A turned frame's up is the
-  // model's (it is turned about the vertical): in its own terms the ground lies lower by the
-  // height of its origin.
+  // The ground under the bricks that reach it, or settle onto it. On a lattice turned about the
+  // vertical the ground lies lower by the height of the lattice's origin; a tilted one stands on
+  // no ground.
   for (int i = 0; i < n; ++i) {
     if (g.fixed[size_t(i)]) continue;
     const Brick& brick = a.bricks[size_t(i)];
@@ -537,6 +540,15 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
     face->second.has_patch = false;  // one contact for both
   }
 
+  // A contact joins the list and both its parts' lists (the ground has none); returns its index.
+  auto add_contact = [&](const Contact& c) {
+    const int index = int(g.contacts.size());
+    if (c.lower != kGround) g.contacts_of[size_t(c.lower)].push_back(index);
+    g.contacts_of[size_t(c.upper)].push_back(index);
+    g.contacts.push_back(c);
+    return index;
+  };
+
   // Contacts in a fixed order: along the vertical first, by the part above; then across x and z,
   // by the part on the low side.
   std::vector<Meeting*> ordered;
@@ -597,10 +609,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
         }
       }
     }
-    const int index = int(g.contacts.size());
-    if (c.lower != kGround) g.contacts_of[size_t(c.lower)].push_back(index);
-    g.contacts_of[size_t(c.upper)].push_back(index);
-    g.contacts.push_back(c);
+    add_contact(c);
   }
   // Assumed-rigid joints, after every other contact: each group ties the bricks it joins along
   // the shortest links between their centres (a tree of joints is as rigid as one body). Merged
@@ -636,10 +645,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
       for (int ax = 0; ax < 3; ++ax)
         c.joint_point[size_t(ax)] =
             (centre[size_t(c.lower)][size_t(ax)] + centre[size_t(c.upper)][size_t(ax)]) / 2;
-      const int index = int(g.contacts.size());
-      g.contacts_of[size_t(c.lower)].push_back(index);
-      g.contacts_of[size_t(c.upper)].push_back(index);
-      g.contacts.push_back(c);
+      add_contact(c);
       for (size_t k = 1; k < joins.size(); ++k)
         if (!in_tree[k] && distance(joins[next], joins[k]) < best[k])
           best[k] = distance(joins[next], joins[k]), link[k] = next;
@@ -674,11 +680,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
       const Vec3 cx = body_centre(a.bricks[size_t(x)]), cy = body_centre(a.bricks[size_t(y)]);
       for (int ax = 0; ax < 3; ++ax)
         c.joint_point[size_t(ax)] = (cx[size_t(ax)] + cy[size_t(ax)]) / 2;
-      const int index = int(g.contacts.size());
-      g.contacts_of[size_t(c.lower)].push_back(index);
-      g.contacts_of[size_t(c.upper)].push_back(index);
-      g.contacts.push_back(c);
-      g.lattice_joints.push_back(index);
+      g.lattice_joints.push_back(add_contact(c));
     }
   }
   return g;

@@ -128,14 +128,10 @@ std::vector<Vec3> world_outline(const CarriedPart& part) {
   return out;
 }
 
+// The flip of y (lattice_from_ldraw) is its own inverse.
 Vec3 to_model_direction(const Brick& brick, const Vec3& d) {
   if (!brick.frame) return d;
-  const auto& r = brick.frame->pose.rotation;
-  const Vec3 l = lattice_from_ldraw(d);  // the flip of y is its own inverse
-  Vec3 out{0, 0, 0};
-  for (int row = 0; row < 3; ++row)
-    for (int k = 0; k < 3; ++k) out[size_t(row)] += r[size_t(3 * row + k)] * l[size_t(k)];
-  return lattice_from_ldraw(out);
+  return lattice_from_ldraw(brick.frame->pose.rotate(lattice_from_ldraw(d)));
 }
 
 Vec3 to_model(const Brick& brick, const Vec3& p) {
