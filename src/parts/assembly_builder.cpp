@@ -193,6 +193,102 @@ std::optional<FramedPart> turned_frame(const ldraw::Model& model, const ldraw::P
   return std::nullopt;
 }
 
+// Frames of parts turned on their own lines count down from here (turned_frame's from 0 up).
+constexpr int kFirstPartTurnFrame = -3;
+
+// README "What it analyses", turned lattices: parts that the file turns one by one, each on its
+// own line, share a lattice where their turns agree up to quarter turns (the mosque's walls, each
+// brick's line turned 30 degrees). The lattice is placed where its first part is; the others lie
+// on it where the file's own numbers put them: their offsets are taken back through their written
+// matrices, the way the author computed them ("0.87 0 0.5" and an offset of 52.2 for three
+// studs, not the 51.96 of an exact 30 degrees).
+class PartTurnLattices {
+ public:
+  // `rotation`: the part's, made orthonormal; `written`: its placement as the file writes it.
+  std::optional<FramedPart> place(const std::array<double, 9>& rotation,
+                                  const ldraw::Transform& written) {
+    for (size_t g = 0; g < lattices_.size(); ++g) {
+      std::array<double, 9> relative{};  // Qᵀ·R
+      const auto& q = lattices_[g].rotation;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+          for (int k = 0; k < 3; ++k)
+            relative[size_t(3 * r + c)] += q[size_t(3 * k + r)] * rotation[size_t(3 * k + c)];
+      if (const auto quarter = quarter_turn(relative, kSameTurn))
+        return on_lattice(int(g), *quarter, written);
+    }
+    // A new lattice: upright and proper, the part keeping on it the quarter turn (perhaps on its
+    // side, upside down or mirrored) that makes it so. Only turns about the vertical: on a
+    // lattice tilted part by part (a droid leaning 9 degrees on its hinge), PHYSICS.md's support
+    // force holds no twist about the studs, and such parts stay carried as before.
+    std::array<double, 9> own{};
+    Pose lattice{rotation, written.pos};
+    double most_up = -2;
+    const double hand = ldraw::Transform{{}, rotation}.determinant() < 0 ? -1 : 1;
+    constexpr int kOrders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2},
+                                   {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+    for (const auto& order : kOrders)
+      for (int signs = 0; signs < 8; ++signs) {
+        std::array<double, 9> p{};
+        for (int r = 0; r < 3; ++r) p[size_t(3 * r + order[r])] = (signs >> r & 1) ? -1 : 1;
+        if (ldraw::Transform{{}, p}.determinant() != hand) continue;
+        std::array<double, 9> q{};  // R·Pᵀ
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b)
+            for (int k = 0; k < 3; ++k)
+              q[size_t(3 * a + b)] += rotation[size_t(3 * a + k)] * p[size_t(3 * b + k)];
+        if (q[4] > most_up) most_up = q[4], own = p, lattice.rotation = q;
+      }
+    if (tilted(LatticeFrame{0, lattice})) return std::nullopt;
+    lattices_.push_back(lattice);
+    return on_lattice(int(lattices_.size() - 1), own, written);
+  }
+
+ private:
+  // Turns this close (matrix entries, about a tenth of a degree) are one lattice's: two decimals
+  // written in two orders ("0.87 0 0.5", "0.5 0 -0.87") agree to a few thousandths of a degree.
+  static constexpr double kSameTurn = 2e-3;
+
+  // The part on lattice g, turned there by `quarter`. Its origin there is P·W⁻¹·(p − o) as the
+  // author computed it, where that lies on whole LDU as parts on a lattice do; else (a ring of
+  // bricks, each at its own angle, two of them a quarter turn apart) exactly where it is drawn,
+  // Qᵀ·(p − o).
+  std::optional<FramedPart> on_lattice(int g, const std::array<double, 9>& quarter,
+                                       const ldraw::Transform& written) const {
+    const auto& w = written.rot;
+    const double det = written.determinant();
+    if (!(std::abs(det) > 0.5)) return std::nullopt;
+    const std::array<double, 9> inverse{
+        (w[4] * w[8] - w[5] * w[7]) / det, (w[2] * w[7] - w[1] * w[8]) / det,
+        (w[1] * w[5] - w[2] * w[4]) / det, (w[5] * w[6] - w[3] * w[8]) / det,
+        (w[0] * w[8] - w[2] * w[6]) / det, (w[2] * w[3] - w[0] * w[5]) / det,
+        (w[3] * w[7] - w[4] * w[6]) / det, (w[1] * w[6] - w[0] * w[7]) / det,
+        (w[0] * w[4] - w[1] * w[3]) / det};
+    const Pose& lattice = lattices_[size_t(g)];
+    Vec3 offset{}, drawn{};
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) {
+        const double d = written.pos[size_t(k)] - lattice.origin[size_t(k)];
+        offset[size_t(r)] += inverse[size_t(3 * r + k)] * d;
+        drawn[size_t(r)] += lattice.rotation[size_t(3 * k + r)] * d;
+      }
+    const Vec3 computed = Pose{quarter, {0, 0, 0}}.apply(offset);
+    auto on_grid = [](double v) { return std::abs(v - std::round(v)) <= kOnGrid; };
+    FramedPart out;
+    out.frame.id = kFirstPartTurnFrame - g;
+    out.frame.pose = lattice;
+    out.pose.rotation = quarter;
+    out.pose.origin =
+        on_grid(computed[0]) && on_grid(computed[1]) && on_grid(computed[2]) ? computed : drawn;
+    return out;
+  }
+
+  // Positions are written with two decimals.
+  static constexpr double kOnGrid = 0.03;
+
+  std::vector<Pose> lattices_;
+};
+
 }  // namespace
 
 AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
@@ -225,6 +321,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
   };
   const double plates = plate_offset(model, in_frame);
   const ldraw::Transform model_turn = in_frame(ldraw::Transform{});  // Fᵀ: where lattices start
+  PartTurnLattices part_turns;
   // The same part placed twice in one place (a common slip in LDraw editors, which draw one): the
   // copies are left out, each naming the first, so that they neither weigh nor collide.
   std::map<std::string, size_t> first_at;
@@ -267,6 +364,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     if (carried_reason.empty()) {
       turn = quarter_turn(rotation, kQuarterTurnTolerance);
       if (!turn) framed = turned_frame(model, p, model_turn);
+      if (!turn && !framed) framed = part_turns.place(rotation, placed);
       if (!turn && !framed)
         carried_reason = "turned by an angle that is not a multiple of 90 degrees";
     }

@@ -238,7 +238,7 @@ bool carry_tilted_unbalanced(Audit& audit) {
     carry[i] = bricks[i].frame &&
                std::find(lattices.begin(), lattices.end(), bricks[i].frame->id) != lattices.end();
   carry_bricks(audit, carry,
-               "on a submodel tilted off the vertical, where nothing holds it against the twist "
+               "on a lattice tilted off the vertical, where nothing holds it against the twist "
                "about its studs");
   return true;
 }

@@ -115,8 +115,8 @@ std::string render_text(const Audit& a, bool quiet) {
   const auto& lattice = r.graph.lattice_joints;
   if (!lattice.empty())
     line(
-        fmt::format("  assumed rigid {} where parts of two lattices touch (a submodel placed at "
-                    "an angle, analysed in its own frame):",
+        fmt::format("  assumed rigid {} where parts of two lattices touch (parts placed at an "
+                    "angle, analysed in their own frame):",
                     plural(lattice.size(), "joint")));
   for (size_t i = 0; i < lattice.size() && i < 20; ++i) {
     const auto& c = r.graph.contacts[size_t(lattice[i])];

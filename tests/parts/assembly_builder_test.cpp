@@ -12,7 +12,7 @@ namespace {
 
 using ldraw::read_text;
 
-TEST(ToAssembly, TurnsByQuarterTurnsAreAnalysedOtherAnglesCarried) {
+TEST(ToAssembly, TurnsByQuarterTurnsAreOnTheLatticeOtherAnglesOnTheirOwn) {
   ldraw::Model m = read_text(
       "0 t\n"
       "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"                   // upright
@@ -20,27 +20,31 @@ TEST(ToAssembly, TurnsByQuarterTurnsAreAnalysedOtherAnglesCarried) {
       "1 4 5 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"                   // 5 LDU off: analysed
       "1 4 0 -24 0 1 0 0 0 -1 0 0 0 -1 3001.dat\n"                 // upside down: analysed
       "1 4 0 -24 0 0 1 0 -1 0 0 0 0 1 3001.dat\n"                  // on its side: analysed
-      "1 4 0 -24 0 0.57 0 0.82 0 1 0 -0.82 0 0.57 3001.dat\n"      // 55 degrees, 2 decimals
+      "1 4 0 -24 0 0.57 0 0.82 0 1 0 -0.82 0 0.57 3001.dat\n"      // 55 degrees: own lattice
       "1 4 0 -24 0 2 0 0 0 1 0 0 0 1 3001.dat\n"                   // scaled
       "1 4 0 -24 0 0.9999 0 0.01 0 1 0 -0.01 0 0.9999 3001.dat\n"  // a rotation to 1e-2
       "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3068b.dat\n",                 // no part file here
       "t.ldr");
   PartLibrary library({}, BrickCatalog::standard());
   auto conv = to_assembly(m, library);
-  ASSERT_EQ(conv.assembly.bricks.size(), 6u);
-  EXPECT_EQ(conv.brick_part, (std::vector<size_t>{0, 1, 2, 3, 4, 7}));
-  ASSERT_EQ(conv.assembly.carried.size(), 2u);
-  EXPECT_NE(conv.assembly.carried[0].reason.find("not a multiple of 90"), std::string::npos);
-  EXPECT_EQ(conv.assembly.carried[0].source.line, 7);
-  EXPECT_NE(conv.assembly.carried[1].reason.find("scaled or sheared"), std::string::npos);
-  EXPECT_EQ(conv.assembly.carried[1].mass_g, 2.20);  // carried parts keep their weight
+  ASSERT_EQ(conv.assembly.bricks.size(), 7u);
+  EXPECT_EQ(conv.brick_part, (std::vector<size_t>{0, 1, 2, 3, 4, 5, 7}));
+  // At 55 degrees, on a lattice of its own (README "What it analyses", turned lattices): it is
+  // carried later if it snaps to nothing there.
+  for (size_t b = 0; b < 7; ++b) EXPECT_EQ(bool(conv.assembly.bricks[b].frame), b == 5) << b;
+  const Pose at_55 = model_pose(conv.assembly.bricks[5]);
+  EXPECT_NEAR(at_55.rotation[2], 0.82, 1e-2);
+  EXPECT_EQ(at_55.origin, (Vec3{0, -24, 0}));
+  ASSERT_EQ(conv.assembly.carried.size(), 1u);
+  EXPECT_NE(conv.assembly.carried[0].reason.find("scaled or sheared"), std::string::npos);
+  EXPECT_EQ(conv.assembly.carried[0].mass_g, 2.20);  // carried parts keep their weight
   ASSERT_EQ(conv.skipped.size(), 1u);
   EXPECT_EQ(m.parts[conv.skipped[0].part].line, 10);
   EXPECT_NE(conv.skipped[0].reason.find("no part file"), std::string::npos);
   // The near rotation is made exact, with a warning naming its line.
   ASSERT_EQ(conv.diagnostics.size(), 1u);
   EXPECT_EQ(conv.diagnostics[0].line, 9);
-  EXPECT_EQ(conv.assembly.bricks[5].pose->rotation,
+  EXPECT_EQ(conv.assembly.bricks[6].pose->rotation,
             (std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1}));
   // Poses are LDraw's own: written back, the bricks land where they were read.
   const auto t = ldraw::brick_transform(conv.assembly.bricks[2], conv.assembly.origin_ldu);
@@ -84,6 +88,44 @@ TEST(ToAssembly, PartsOfATurnedSubmodelLieOnItsLattice) {
     for (int k = 0; k < 9; ++k) EXPECT_NEAR(t.rot[size_t(k)], p.transform.rot[size_t(k)], 1e-2);
   }
   EXPECT_EQ(frames.size(), 2u);  // one lattice per placement
+}
+
+// Parts turned one by one on their own lines share an upright lattice where their turns agree up
+// to quarter turns, whichever comes first: on its side, upside down or mirrored, each keeps that
+// quarter turn on the lattice and lands where it was read. A part tilted on its own line stays
+// carried.
+TEST(ToAssembly, PartsTurnedOnTheirOwnLinesShareAnUprightLattice) {
+  ldraw::Model m = read_text(
+      "0 t\n"
+      "1 4 0 -24 0 0 -0.866025 0.5 1 0 0 0 0.5 0.866025 3001.dat\n"      // 30 degrees, on its side
+      "1 4 40 -48 0 0.866025 0 -0.5 0 -1 0 -0.5 0 -0.866025 3001.dat\n"  // upside down
+      "1 4 0 -72 0 -0.866025 0 0.5 0 1 0 0.5 0 0.866025 3001.dat\n"      // mirrored
+      "1 4 0 -96 0 0.866025 0 0.5 0 1 0 -0.5 0 0.866025 3001.dat\n"
+      "1 4 0 -120 0 1 0 0 0 0.987688 -0.156434 0 0.156434 0.987688 3001.dat\n"  // tilted 9°
+      "1 4 0 0 200 1 0 0 0 1 0 0 0 1 3001.dat\n"  // more upright than turned: the model's frame
+      "1 4 0 -24 200 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 4 0 -48 200 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 4 0 -72 200 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 4 0 -96 200 1 0 0 0 1 0 0 0 1 3001.dat\n",
+      "t.ldr");
+  PartLibrary library({}, BrickCatalog::standard());
+  auto conv = to_assembly(m, library);
+  ASSERT_EQ(conv.assembly.bricks.size(), 9u);
+  ASSERT_EQ(conv.assembly.carried.size(), 1u);
+  EXPECT_EQ(conv.assembly.carried[0].source.line, 6);
+  std::set<int> frames;
+  for (size_t i = 0; i < 4; ++i) {
+    const Brick& b = conv.assembly.bricks[i];
+    ASSERT_TRUE(b.frame) << i;
+    EXPECT_FALSE(tilted(*b.frame)) << i;
+    frames.insert(b.frame->id);
+    const ldraw::PlacedPart& p = m.parts[conv.brick_part[i]];
+    const auto t = ldraw::brick_transform(b, conv.assembly.origin_ldu);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(t.pos[size_t(k)], p.transform.pos[size_t(k)], 1e-6);
+    for (int k = 0; k < 9; ++k) EXPECT_NEAR(t.rot[size_t(k)], p.transform.rot[size_t(k)], 1e-6);
+  }
+  EXPECT_EQ(frames.size(), 1u);
+  EXPECT_FALSE(conv.assembly.bricks[4].frame);
 }
 
 // A model drawn turned as a whole (a car tilted by a degree on its springs) is analysed in its own
