@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <set>
 #include <tuple>
 #include <unordered_map>
 
@@ -160,6 +161,7 @@ struct Meeting {
   std::vector<Vec3> receptacles;  // engaged, in `upper`
   bool support = false;
   bool turned = false;  // in the lattice frame of `upper`, which is turned (Contact::turned)
+  bool across = false;  // studs of one lattice in receptacles of another
 };
 
 void grow(Rect& r, bool& has, const Rect& add) {
@@ -346,6 +348,79 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
         meeting(l, u, s.direction, s.at[size_t(axis_of(s.direction))])
             .receptacles.push_back(receptacles[e].at);
       }
+
+  // Studs in receptacles of another lattice, both upright (README "What it analyses", turned
+  // lattices): a stud in a receptacle is a connection however the two parts are turned about it
+  // (the water tower's ring of 1 x 3 bricks, each turned on a stud of the one below). Found where
+  // the model puts them, within the LDU a carried part reaches: the corpus places such rings by
+  // eye, a stud 0.2-0.8 LDU from the receptacle it is in.
+  std::set<std::pair<int, int>> snapped_across;
+  if (any_turned) {
+    // Upright parts of turned lattices, and the parts of other lattices within reach of them.
+    std::vector<char> across(size_t(n), 0);
+    for (int i = 0; i < n; ++i) {
+      const Brick& b = a.bricks[size_t(i)];
+      if (!b.frame || tilted(*b.frame)) continue;
+      across[size_t(i)] = 1;
+      for (const Box& box : shapes[size_t(i)].body)
+        near_in_model(model_bounds(b, box), kCarriedReach, [&](int id) {
+          const int j = box_owner[size_t(id)].first;
+          const Brick& other = a.bricks[size_t(j)];
+          if (!other.frame || !tilted(*other.frame)) across[size_t(j)] = 1;
+        });
+    }
+    auto vertical = [](const Connector& c) { return axis_of(c.direction) == 1; };
+    constexpr double kCell = 2;
+    auto cell = [&](const Vec3& p, int direction) {
+      return std::tuple(int64_t(std::floor(p[0] / kCell)), int64_t(std::floor(p[1] / kCell)),
+                        int64_t(std::floor(p[2] / kCell)), direction);
+    };
+    using Cell = decltype(cell(Vec3{}, 0));
+    struct Placed {
+      Cell cell;
+      Vec3 at, model;
+      int brick;
+    };
+    std::vector<Placed> placed;
+    for (int i = 0; i < n; ++i)
+      if (across[size_t(i)])
+        for (const Connector& r : shapes[size_t(i)].receptacles)
+          if (vertical(r)) {
+            const Vec3 m = to_model(a.bricks[size_t(i)], r.at);
+            placed.push_back({cell(m, r.direction), r.at, m, i});
+          }
+    std::sort(placed.begin(), placed.end(),
+              [](const Placed& x, const Placed& y) { return x.cell < y.cell; });
+    for (int l = 0; l < n; ++l) {
+      if (!across[size_t(l)]) continue;
+      for (const Connector& k : shapes[size_t(l)].studs) {
+        if (!vertical(k)) continue;
+        const Vec3 m = to_model(a.bricks[size_t(l)], k.at);
+        const auto [x, y, z, facing] = cell(m, opposite(k.direction));
+        for (int64_t dx = -1; dx <= 1; ++dx)
+          for (int64_t dy = -1; dy <= 1; ++dy)
+            for (int64_t dz = -1; dz <= 1; ++dz) {
+              const Cell key{x + dx, y + dy, z + dz, facing};
+              auto it = std::lower_bound(placed.begin(), placed.end(), key,
+                                         [](const Placed& p, const Cell& c) { return p.cell < c; });
+              for (; it != placed.end() && it->cell == key; ++it) {
+                const int u = it->brick;
+                if (u == l || frame_of(u) == frame_of(l) ||
+                    (g.fixed[size_t(l)] && g.fixed[size_t(u)]))
+                  continue;
+                if (std::abs(it->model[1] - m[1]) > kTouch ||
+                    std::hypot(it->model[0] - m[0], it->model[2] - m[2]) > kCarriedReach)
+                  continue;
+                // In the lattice frame of `u`, where its receptacle is.
+                Meeting& meet = meeting(l, u, k.direction, it->at[1]);
+                meet.receptacles.push_back(it->at);
+                meet.across = true;
+                snapped_across.emplace(std::min(l, u), std::max(l, u));
+              }
+            }
+      }
+    }
+  }
 
   // Faces that touch, and bodies that overlap.
   std::vector<int> seen;
@@ -591,10 +666,13 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
           add_friction_points(receptacles, c.upper, r, opposite(m->direction), g.friction_points);
       c.point_count = uint32_t(g.friction_points.size()) - c.first_point;
       if (!m->has_patch) {  // the bodies do not meet (a recessed stud): the studs' cells
+        // Across lattices, where both parts surely are: the square inside the circle that the
+        // stud's cell in each part holds, whichever way the two are turned.
+        const double half = m->across ? kStudPitch / (2 * std::sqrt(2.0)) : kStudPitch / 2;
         for (const Vec3& r : rs)
-          grow(m->patch, m->has_patch,
-               {r[size_t(f)] - kStudPitch / 2, r[size_t(s)] - kStudPitch / 2,
-                r[size_t(f)] + kStudPitch / 2, r[size_t(s)] + kStudPitch / 2});
+          grow(
+              m->patch, m->has_patch,
+              {r[size_t(f)] - half, r[size_t(s)] - half, r[size_t(f)] + half, r[size_t(s)] + half});
       }
     }
     c.patch = m->patch;
@@ -665,6 +743,8 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
         if (frame_of(j) == frame_of(i) || (g.fixed[size_t(i)] && g.fixed[size_t(j)])) return;
         // Once per pair: from the turned one when only one is, else from the lower frame id.
         if (a.bricks[size_t(j)].frame && frame_of(j) < frame_of(i)) return;
+        // Snapped to each other, they hold by their studs.
+        if (snapped_across.count({std::min(i, j), std::max(i, j)})) return;
         if (touch(o, model_box(other), kCarriedReach))
           pairs.emplace_back(std::min(i, j), std::max(i, j));
       });

@@ -219,8 +219,10 @@ TEST(BrickcheckRealProperty, AnalysingACarriedPartNeverLowersCoverage) {
   const std::string base =
       "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
       "1 4 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
-  const std::string angled = "1 4 -30 -72 -10 0.71 0 0.71 0 1 0 -0.71 0 0.71 3005.dat\n";
-  const std::string upright = "1 4 -30 -72 -10 1 0 0 0 1 0 0 0 1 3005.dat\n";
+  // Turned 45 degrees about its middle, neither of its receptacles is on a stud (a 1 x 1 brick
+  // turned so about its one receptacle would be: analysed since its stud is in it).
+  const std::string angled = "1 4 -20 -72 -10 0.71 0 0.71 0 1 0 -0.71 0 0.71 3004.dat\n";
+  const std::string upright = "1 4 -20 -72 -10 1 0 0 0 1 0 0 0 1 3004.dat\n";
   json a = check(model("angled.ldr", base + angled), 0);
   json b = check(model("upright.ldr", base + upright), 0);
   EXPECT_EQ(a["carried"].size(), 1u);

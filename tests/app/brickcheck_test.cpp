@@ -232,14 +232,53 @@ TEST(Brickcheck, PartsTurnedOnTheirOwnLinesShareALattice) {
       EXPECT_EQ(j["weakest"][0]["b"]["line"], 3) << decimals;  // the bottom brick holding the next
     }
   }
-  // The middle brick turned a degree further is on a lattice of its own: the two others snap to
-  // nothing, and all three are carried.
-  std::ofstream(path) << stand_turned_part_by_part(30, 6, true, 1);
+  // The middle brick turned ten degrees further is on a lattice of its own, none of its studs
+  // within reach of another's receptacle: the two others snap to nothing, and all three are
+  // carried.
+  std::ofstream(path) << stand_turned_part_by_part(30, 6, true, 10);
   json apart = check_json({path.string()}, 0);
   EXPECT_EQ(apart["bricks"], 4);
   ASSERT_EQ(apart["carried"].size(), 3u);
   for (const auto& c : apart["carried"])
     EXPECT_EQ(c["reason"], "turned by an angle that is not a multiple of 90 degrees") << c;
+}
+
+// A 1 x 2 brick turned by `degrees` about one of its studs, that stud on the end stud of a 1 x 4
+// brick, the rest of it out in the air; `off` LDU along x from that stud.
+std::string brick_turned_on_a_stud(double degrees, double off = 0) {
+  const double c = std::cos(degrees * M_PI / 180), s = std::sin(degrees * M_PI / 180);
+  return fmt::format(
+      "0 turned on a stud\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3010.dat\n"
+      "1 1 {:.4f} -48 {:.4f} {:.6f} 0 {:.6f} 0 1 0 {:.6f} 0 {:.6f} 3004.dat\n",
+      30 + 10 * c + off, -10 * s, c, s, -s, c);
+}
+
+// A stud in a receptacle is a connection however the two parts are turned about it (PHYSICS.md
+// "Stud connection"): across lattices too, where the model puts a stud of one in a receptacle of
+// the other (the corpus's water tower: a ring of 1 x 3 bricks, each turned on a stud of the one
+// below; its analysed parts 278 -> 314 of 393). Turned about that stud, the brick holds the same.
+TEST(Brickcheck, AStudInAReceptacleOfAnotherLatticeIsAConnection) {
+  auto path = scratch("turned-on-a-stud.ldr");
+  double first = 0;
+  for (double degrees : {30.0, 60.0, -12.5}) {
+    std::ofstream(path) << brick_turned_on_a_stud(degrees);
+    json j = check_json({path.string()}, 0);
+    EXPECT_EQ(j["bricks"], 2) << degrees;
+    EXPECT_EQ(j["turned"], 1) << degrees;
+    EXPECT_TRUE(j["joints"].empty()) << degrees << j["joints"];  // held by its stud, not a joint
+    if (first == 0) first = j["cm_gf"];
+    EXPECT_NEAR(j["cm_gf"].get<double>(), first, 1e-6 * first) << degrees;
+    ASSERT_FALSE(j["weakest"].empty());
+    EXPECT_EQ(j["weakest"][0]["b"]["line"], 3) << degrees;
+  }
+  EXPECT_LT(first, 71.658);  // it hangs out: the stud holds it by friction
+  EXPECT_GT(first, 0);
+  // Two LDU off the stud, it is not in the receptacle: alone on its lattice, it is carried.
+  std::ofstream(path) << brick_turned_on_a_stud(30, 2);
+  json off = check_json({path.string()}, 0);
+  EXPECT_EQ(off["bricks"], 1);
+  ASSERT_EQ(off["carried"].size(), 1u);
+  EXPECT_EQ(off["carried"][0]["reason"], "turned by an angle that is not a multiple of 90 degrees");
 }
 
 // Where parts of two lattices touch, the analysis joins them rigidly, as a carried part joins
@@ -822,7 +861,9 @@ TEST(BrickcheckCorpus, TheSolverDoesNotCrawlOnRealBuildings) {
   EXPECT_LE(safe_house["lp"]["iterations"], 60);
   EXPECT_EQ(safe_house["lp"]["solver"], "interior point");
   json fire_company = check_datsville("building_007_firecompany.mpd", 1);
-  EXPECT_NEAR(fire_company["cm_gf"].get<double>(), 68.744, 1e-3);
+  // 68.744 until its turned plates held the plates on their studs by those studs rather than
+  // by assumed-rigid joints (2026-12-01).
+  EXPECT_NEAR(fire_company["cm_gf"].get<double>(), 68.204, 1e-3);
   EXPECT_LE(fire_company["lp"]["iterations"], 60);
   EXPECT_EQ(fire_company["lp"]["solver"], "interior point");
   // The mosque stands. A plate's moment of 1.3e-15 (roundoff of its centre) on a row no force
