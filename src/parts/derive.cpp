@@ -399,6 +399,7 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   t.shape.body = body_boxes(g, cell);
   t.shape.outline = outline(g);
   t.baseplate = g.category == "Baseplate" || g.title.starts_with("Baseplate");
+  t.pivots = first_word(g) == "Hinge" || first_word(g) == "Turntable";
   if (t.shape.body.empty()) {
     // Nothing but studs: a box around them keeps its weight somewhere.
     k.carried_reason = "its file draws no body";

@@ -178,14 +178,42 @@ void carry_lone_turned(Audit& audit, physics::GroundMode ground) {
 // PHYSICS.md: a part placed off the stud lattice is carried. Where a part's studs and receptacles
 // meet nothing that stands, that is what happened to it (an ornament on a half-stud offset, a
 // door on its hinge pins, a roof whose supports are carried): such parts become carried, and
-// whether they touch what stands decides if they are held or float.
+// whether they touch what stands decides if they are held or float. A hinge or turntable half
+// among them that touches its other half, standing, is what holds the rest: it turns on that
+// half, so it is carried as PHYSICS.md carries hinges, a joint between what it touches, and what
+// hangs on it stands through it (the tower crane's arm on its turntable).
 void carry_unconnected(Audit& audit, physics::GroundMode ground) {
+  auto floating_bricks = [&] {
+    const Assembly& a = audit.conversion.assembly;
+    auto graph = physics::ContactGraph::build(a, ground);
+    const auto connectivity = physics::analyze_connectivity(int(a.bricks.size()), graph);
+    std::vector<char> floating(a.bricks.size(), 0);
+    for (int b : connectivity.floating) floating[size_t(b)] = 1;
+    return std::pair(std::move(graph), std::move(floating));
+  };
+  auto [graph, floating] = floating_bricks();
+  if (std::find(floating.begin(), floating.end(), 1) == floating.end()) return;
   const Assembly& a = audit.conversion.assembly;
-  const auto graph = physics::ContactGraph::build(a, ground);
-  const auto connectivity = physics::analyze_connectivity(int(a.bricks.size()), graph);
-  if (connectivity.floating.empty()) return;
-  std::vector<char> floating(a.bricks.size(), 0);
-  for (int b : connectivity.floating) floating[size_t(b)] = 1;
+  std::vector<char> pivots(a.bricks.size(), 0);
+  bool any = false;
+  // Its other half, standing: a hinge turns on a hinge, a turntable top on its base.
+  auto holds = [&](int b) {
+    return b != physics::kGround && !floating[size_t(b)] && a.bricks[size_t(b)].type->pivots;
+  };
+  for (size_t i = 0; i < a.bricks.size(); ++i) {
+    if (!floating[i] || !a.bricks[i].type->pivots) continue;
+    for (int k : graph.contacts_of[i]) {
+      const auto& c = graph.contacts[size_t(k)];
+      if (holds(c.lower == int(i) ? c.upper : c.lower)) pivots[i] = 1;
+    }
+    for (const auto& [x, y] : graph.overlaps)
+      if ((x == int(i) && holds(y)) || (y == int(i) && holds(x))) pivots[i] = 1;
+    any = any || pivots[i];
+  }
+  if (any) {
+    carry_bricks(audit, pivots, "a hinge or turntable half: it turns on what holds it");
+    floating = floating_bricks().second;
+  }
   carry_bricks(audit, floating, "its studs and receptacles meet nothing that stands");
 }
 

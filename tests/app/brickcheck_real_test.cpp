@@ -175,6 +175,46 @@ TEST(BrickcheckReal, AHingeJoiningTwoWalls) {
       << "--strict fails a verdict that assumes";
 }
 
+// An arm on a turntable: the top half (it has cells, but they take the arm's plate, not the
+// base) turns on the base, so it is carried, a joint between the base and what stands on it; the
+// arm is analysed through it: a 1 x 8 brick on three knobs of the plate, PHYSICS.md's check.
+// Until 2026-12-01 the top and everything on it "met nothing that stands" and were carried (the
+// corpus's tower crane: 96 parts of its arm). A half turning on nothing of its kind holds
+// nothing.
+TEST(BrickcheckReal, AnArmOnATurntable) {
+  SKIP_WITHOUT_SHARED();
+  const std::string arm =
+      "1 4 0 -32 0 1 0 0 0 1 0 0 0 1 3031.dat\n"
+      "1 4 60 -56 10 1 0 0 0 1 0 0 0 1 3008.dat\n";
+  json j = check(model("turntable.ldr",
+                       "1 7 0 -24 0 1 0 0 0 1 0 0 0 1 3403.dat\n"
+                       "1 7 0 -24 0 1 0 0 0 1 0 0 0 1 3404.dat\n" +
+                           arm),
+                 0);
+  EXPECT_EQ(j["bricks"], 3);
+  ASSERT_EQ(j["carried"].size(), 1u);
+  EXPECT_EQ(j["carried"][0]["part"], "3404");
+  EXPECT_EQ(j["carried"][0]["reason"], "a hinge or turntable half: it turns on what holds it");
+  ASSERT_EQ(j["joints"].size(), 1u);
+  ASSERT_EQ(j["joints"][0]["joins"].size(), 2u);
+  EXPECT_EQ(j["joints"][0]["joins"][0]["part"], "3403");
+  EXPECT_EQ(j["joints"][0]["joins"][1]["part"], "3031");
+  EXPECT_NEAR(j["cm_gf"].get<double>(), 71.658 - 3.08 / (4 * (2.5 + 1.5 + 0.5)), 1e-3);
+  ASSERT_FALSE(j["weakest"].empty());
+  EXPECT_EQ(j["weakest"][0]["b"]["part"], "3008");
+  // Over a 2x4 brick instead of its base, the top turns on nothing: it and the arm are carried,
+  // and float.
+  json alone = check(model("top-alone.ldr",
+                           "1 7 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                           "1 7 0 -24 0 1 0 0 0 1 0 0 0 1 3404.dat\n" +
+                               arm),
+                     1);
+  EXPECT_EQ(alone["bricks"], 1);
+  EXPECT_EQ(alone["floating_carried"].size(), 3u);
+  for (const auto& c : alone["carried"])
+    EXPECT_EQ(c["reason"], "its studs and receptacles meet nothing that stands") << c;
+}
+
 // A car on its tyres, on a table: the tyres are carried, reach the lowest plane, and hold it up.
 TEST(BrickcheckReal, ACarOnTyresOnATable) {
   SKIP_WITHOUT_SHARED();
