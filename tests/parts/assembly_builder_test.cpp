@@ -12,6 +12,16 @@ namespace {
 
 using ldraw::read_text;
 
+// Five upright 2x4 bricks stacked at z, the first with its top at `top`: enough to outvote a few
+// turned parts, so that the model's frame stays the model's.
+std::string upright_column(int z, int top) {
+  std::string out;
+  for (int k = 0; k < 5; ++k)
+    out += "1 4 0 " + std::to_string(top - 24 * k) + " " + std::to_string(z) +
+           " 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  return out;
+}
+
 TEST(ToAssembly, TurnsByQuarterTurnsAreOnTheLatticeOtherAnglesOnTheirOwn) {
   ldraw::Model m = read_text(
       "0 t\n"
@@ -57,15 +67,11 @@ TEST(ToAssembly, PartsOfATurnedSubmodelLieOnItsLattice) {
   ldraw::Model m = read_text(
       "0 FILE main.ldr\n"
       "1 16 10 0 5 0.57 0 0.82 0 1 0 -0.82 0 0.57 stand.ldr\n"
-      "1 16 300 0 0 0.57 0 0.82 0 1 0 -0.82 0 0.57 stand.ldr\n"
-      "1 4 0 -24 400 1 0 0 0 1 0 0 0 1 3001.dat\n"
-      "1 4 0 -48 400 1 0 0 0 1 0 0 0 1 3001.dat\n"
-      "1 4 0 -72 400 1 0 0 0 1 0 0 0 1 3001.dat\n"
-      "1 4 0 -96 400 1 0 0 0 1 0 0 0 1 3001.dat\n"
-      "1 4 0 -120 400 1 0 0 0 1 0 0 0 1 3001.dat\n"
-      "0 FILE stand.ldr\n"
-      "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
-      "1 4 10 -24 0 0 0 1 0 1 0 -1 0 0 3001.dat\n",
+      "1 16 300 0 0 0.57 0 0.82 0 1 0 -0.82 0 0.57 stand.ldr\n" +
+          upright_column(400, -24) +
+          "0 FILE stand.ldr\n"
+          "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+          "1 4 10 -24 0 0 0 1 0 1 0 -1 0 0 3001.dat\n",
       "m.mpd");
   PartLibrary library({}, BrickCatalog::standard());
   auto conv = to_assembly(m, library);
@@ -102,11 +108,7 @@ TEST(ToAssembly, PartsTurnedOnTheirOwnLinesShareAnUprightLattice) {
       "1 4 0 -72 0 -0.866025 0 0.5 0 1 0 0.5 0 0.866025 3001.dat\n"      // mirrored
       "1 4 0 -96 0 0.866025 0 0.5 0 1 0 -0.5 0 0.866025 3001.dat\n"
       "1 4 0 -120 0 1 0 0 0 0.987688 -0.156434 0 0.156434 0.987688 3001.dat\n"  // tilted 9°
-      "1 4 0 0 200 1 0 0 0 1 0 0 0 1 3001.dat\n"  // more upright than turned: the model's frame
-      "1 4 0 -24 200 1 0 0 0 1 0 0 0 1 3001.dat\n"
-      "1 4 0 -48 200 1 0 0 0 1 0 0 0 1 3001.dat\n"
-      "1 4 0 -72 200 1 0 0 0 1 0 0 0 1 3001.dat\n"
-      "1 4 0 -96 200 1 0 0 0 1 0 0 0 1 3001.dat\n",
+          + upright_column(200, 0),  // more upright than turned: the model's frame
       "t.ldr");
   PartLibrary library({}, BrickCatalog::standard());
   auto conv = to_assembly(m, library);
