@@ -183,14 +183,14 @@ TEST(BrickcheckReal, AHingeJoiningTwoWalls) {
 // nothing.
 TEST(BrickcheckReal, AnArmOnATurntable) {
   SKIP_WITHOUT_SHARED();
-  const std::string arm =
-      "1 4 0 -32 0 1 0 0 0 1 0 0 0 1 3031.dat\n"
-      "1 4 60 -56 10 1 0 0 0 1 0 0 0 1 3008.dat\n";
-  json j = check(model("turntable.ldr",
-                       "1 7 0 -24 0 1 0 0 0 1 0 0 0 1 3403.dat\n"
-                       "1 7 0 -24 0 1 0 0 0 1 0 0 0 1 3404.dat\n" +
-                           arm),
-                 0);
+  // The top, a 4x4 plate on it and a 1 x 8 brick on the plate, over `under`.
+  auto arm_over = [](const std::string& name, const std::string& under, int exit) {
+    return check(model(name, under + "1 7 0 -24 0 1 0 0 0 1 0 0 0 1 3404.dat\n"
+                                     "1 4 0 -32 0 1 0 0 0 1 0 0 0 1 3031.dat\n"
+                                     "1 4 60 -56 10 1 0 0 0 1 0 0 0 1 3008.dat\n"),
+                 exit);
+  };
+  json j = arm_over("turntable.ldr", "1 7 0 -24 0 1 0 0 0 1 0 0 0 1 3403.dat\n", 0);
   EXPECT_EQ(j["bricks"], 3);
   ASSERT_EQ(j["carried"].size(), 1u);
   EXPECT_EQ(j["carried"][0]["part"], "3404");
@@ -204,11 +204,7 @@ TEST(BrickcheckReal, AnArmOnATurntable) {
   EXPECT_EQ(j["weakest"][0]["b"]["part"], "3008");
   // Over a 2x4 brick instead of its base, the top turns on nothing: it and the arm are carried,
   // and float.
-  json alone = check(model("top-alone.ldr",
-                           "1 7 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
-                           "1 7 0 -24 0 1 0 0 0 1 0 0 0 1 3404.dat\n" +
-                               arm),
-                     1);
+  json alone = arm_over("top-alone.ldr", "1 7 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n", 1);
   EXPECT_EQ(alone["bricks"], 1);
   EXPECT_EQ(alone["floating_carried"].size(), 3u);
   for (const auto& c : alone["carried"])
