@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <thread>
 
 #include "core/error.h"
@@ -175,6 +176,68 @@ void carry_lone_turned(Audit& audit, physics::GroundMode ground) {
   carry_bricks(audit, alone, "turned by an angle that is not a multiple of 90 degrees");
 }
 
+// LDraw editors nudge parts by one LDU. Upright, the builder takes a part that far above or below
+// the model's plates as on them; across, a part one LDU beside the lattice may be a SNOT assembly
+// offset on purpose (the town hall's), which holds together as drawn. So across, only parts whose
+// studs and receptacles meet nothing that stands (`floating`) are moved onto the lattice, and
+// only those that then meet what stands stay moved, each with a warning naming its line.
+// Returns whether any did.
+bool nudge_beside_the_lattice(Audit& audit, const std::vector<char>& floating,
+                              physics::GroundMode ground) {
+  Assembly& a = audit.conversion.assembly;
+  // The lattice across: the residue (hundredths of an LDU, modulo half a stud) most parts share.
+  constexpr double kGrid = kLduPerStud / 2;
+  std::map<std::pair<long, long>, int> votes;
+  auto residue = [&](double v) {
+    return std::lround(std::fmod(std::fmod(v, kGrid) + kGrid, kGrid) * 100) %
+           std::lround(kGrid * 100);
+  };
+  for (const Brick& b : a.bricks)
+    if (b.pose && !b.frame) ++votes[{residue(b.pose->origin[0]), residue(b.pose->origin[2])}];
+  if (votes.empty()) return false;
+  const auto grid = std::max_element(votes.begin(), votes.end(), [](const auto& x, const auto& y) {
+                      return x.second < y.second;
+                    })->first;
+  auto slip = [&](double v, long at) {
+    double d = std::fmod(v - double(at) / 100, kGrid);
+    if (d > kGrid / 2) d -= kGrid;
+    if (d < -kGrid / 2) d += kGrid;
+    return std::abs(d) <= 1 + 1e-6 ? -d : 0.0;
+  };
+  std::vector<std::pair<int, Vec3>> moved;  // brick, its origin as drawn
+  for (size_t i = 0; i < a.bricks.size(); ++i) {
+    Brick& b = a.bricks[i];
+    if (!floating[i] || !b.pose || b.frame) continue;
+    const double dx = slip(b.pose->origin[0], grid.first),
+                 dz = slip(b.pose->origin[2], grid.second);
+    if (std::abs(dx) < 1e-3 && std::abs(dz) < 1e-3) continue;
+    moved.emplace_back(int(i), b.pose->origin);
+    b.pose->origin[0] += dx;
+    b.pose->origin[2] += dz;
+  }
+  if (moved.empty()) return false;
+  const auto connectivity =
+      physics::analyze_connectivity(int(a.bricks.size()), physics::ContactGraph::build(a, ground));
+  std::vector<char> still(a.bricks.size(), 0);
+  for (int b : connectivity.floating) still[size_t(b)] = 1;
+  bool any = false;
+  for (const auto& [i, drawn] : moved) {
+    Brick& b = a.bricks[size_t(i)];
+    if (still[size_t(i)]) {
+      b.pose->origin = drawn;
+      continue;
+    }
+    any = true;
+    audit.conversion.diagnostics.push_back(
+        {ldraw::Severity::Warning, b.source.file, b.source.line,
+         fmt::format("placed {:g} LDU beside the lattice the model's other parts share, its studs "
+                     "meeting nothing: taken as on it, where they meet what stands",
+                     std::max(std::abs(b.pose->origin[0] - drawn[0]),
+                              std::abs(b.pose->origin[2] - drawn[2])))});
+  }
+  return any;
+}
+
 // PHYSICS.md: a part placed off the stud lattice is carried. Where a part's studs and receptacles
 // meet nothing that stands, that is what happened to it (an ornament on a half-stud offset, a
 // door on its hinge pins, a roof whose supports are carried): such parts become carried, and
@@ -193,6 +256,11 @@ void carry_unconnected(Audit& audit, physics::GroundMode ground) {
   };
   auto [graph, floating] = floating_bricks();
   if (std::find(floating.begin(), floating.end(), 1) == floating.end()) return;
+  if (nudge_beside_the_lattice(audit, floating, ground)) {
+    auto again = floating_bricks();
+    graph = std::move(again.first);
+    floating = std::move(again.second);
+  }
   const Assembly& a = audit.conversion.assembly;
   std::vector<char> pivots(a.bricks.size(), 0);
   bool any = false;

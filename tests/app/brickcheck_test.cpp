@@ -931,6 +931,41 @@ TEST(BrickcheckCorpus, APartOneLduOffItsPlatesIsAnalysed) {
   for (const auto& d : tower["diagnostics"])
     nudged += d["message"].get<std::string>().find("LDU above the plates") != std::string::npos;
   EXPECT_GE(nudged, 20);
+  // Its clip plates and their wall, drawn one LDU beside the lattice (z = 11 where the plate
+  // under them has its studs at 10), are taken as on it.
+  int beside = 0;
+  for (const auto& d : tower["diagnostics"])
+    beside += d["message"].get<std::string>().find("LDU beside the lattice") != std::string::npos;
+  EXPECT_GE(beside, 10);
+  EXPECT_GE(tower["bricks"].get<int>(), 165);
+}
+
+// Across, a part one LDU beside the lattice whose studs meet nothing as drawn is taken as on the
+// lattice where its studs then meet what stands, with a warning naming its line (an editor's
+// nudge, as upright); where they would meet nothing either, it is left where it is, carried.
+TEST(Brickcheck, APartOneLduBesideTheLatticeIsTakenAsOnIt) {
+  auto path = scratch("beside.ldr");
+  std::ofstream(path) << "0 beside\n"
+                         "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                         "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                         "1 1 61 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                         "1 2 201 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  json j = check_json({path.string()}, 1);
+  EXPECT_EQ(j["bricks"], 3);
+  ASSERT_EQ(j["carried"].size(), 1u);
+  EXPECT_EQ(j["carried"][0]["line"], 5);  // nothing under it, moved or not: it floats
+  EXPECT_EQ(j["carried"][0]["reason"], "its studs and receptacles meet nothing that stands");
+  EXPECT_EQ(j["floating_carried"].size(), 1u);
+  int beside = 0;
+  for (const auto& d : j["diagnostics"])
+    if (d["message"].get<std::string>().find("1 LDU beside the lattice") != std::string::npos) {
+      ++beside;
+      EXPECT_EQ(d["line"], 4);
+    }
+  EXPECT_EQ(beside, 1);
+  ASSERT_FALSE(j["weakest"].empty());
+  EXPECT_EQ(j["weakest"][0]["b"]["line"], 4);  // two studs out: the top brick on the lower one
+  EXPECT_LT(j["cm_gf"].get<double>(), 71.658);
 }
 
 // Where nothing balances, the report names what tips or hangs: every part that the least virtual
