@@ -29,27 +29,29 @@ double dot3(const double* a, const double* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+// m⁻¹ (row-major), or nullopt where its determinant is below `smallest` in size.
+std::optional<std::array<double, 9>> inverted(const std::array<double, 9>& m, double smallest) {
+  const double det = ldraw::Transform{{}, m}.determinant();
+  if (!(std::abs(det) > smallest)) return std::nullopt;
+  return std::array<double, 9>{(m[4] * m[8] - m[5] * m[7]) / det, (m[2] * m[7] - m[1] * m[8]) / det,
+                               (m[1] * m[5] - m[2] * m[4]) / det, (m[5] * m[6] - m[3] * m[8]) / det,
+                               (m[0] * m[8] - m[2] * m[6]) / det, (m[2] * m[3] - m[0] * m[5]) / det,
+                               (m[3] * m[7] - m[4] * m[6]) / det, (m[1] * m[6] - m[0] * m[7]) / det,
+                               (m[0] * m[4] - m[1] * m[3]) / det};
+}
+
 // Whether every entry of m is within `tolerance` of the orthogonal matrix nearest to it (its
 // polar factor, by Newton's iteration R <- (R + R⁻ᵀ)/2).
 bool near_orthogonal(const std::array<double, 9>& m, double tolerance) {
   std::array<double, 9> r = m;
   for (int it = 0; it < 20; ++it) {
-    const auto& a = r;
-    const double det = a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6]) +
-                       a[2] * (a[3] * a[7] - a[4] * a[6]);
-    if (!(std::abs(det) > 1e-9)) return false;
-    // R⁻ᵀ is the cofactor matrix over the determinant.
-    const std::array<double, 9> inverse_t{
-        (a[4] * a[8] - a[5] * a[7]) / det, (a[5] * a[6] - a[3] * a[8]) / det,
-        (a[3] * a[7] - a[4] * a[6]) / det, (a[2] * a[7] - a[1] * a[8]) / det,
-        (a[0] * a[8] - a[2] * a[6]) / det, (a[1] * a[6] - a[0] * a[7]) / det,
-        (a[1] * a[5] - a[2] * a[4]) / det, (a[2] * a[3] - a[0] * a[5]) / det,
-        (a[0] * a[4] - a[1] * a[3]) / det};
+    const auto inverse = inverted(r, 1e-9);
+    if (!inverse) return false;
     double change = 0;
     std::array<double, 9> next;
     for (size_t k = 0; k < 9; ++k) {
-      next[k] = (a[k] + inverse_t[k]) / 2;
-      change = std::max(change, std::abs(next[k] - a[k]));
+      next[k] = (r[k] + (*inverse)[3 * (k % 3) + k / 3]) / 2;  // (R + R⁻ᵀ) / 2
+      change = std::max(change, std::abs(next[k] - r[k]));
     }
     r = next;
     if (change < 1e-15) break;
@@ -289,21 +291,14 @@ class PartTurnLattices {
   // Qᵀ·(p − o).
   std::optional<FramedPart> on_lattice(int g, const std::array<double, 9>& quarter,
                                        const ldraw::Transform& written) const {
-    const auto& w = written.rot;
-    const double det = written.determinant();
-    if (!(std::abs(det) > 0.5)) return std::nullopt;
-    const std::array<double, 9> inverse{
-        (w[4] * w[8] - w[5] * w[7]) / det, (w[2] * w[7] - w[1] * w[8]) / det,
-        (w[1] * w[5] - w[2] * w[4]) / det, (w[5] * w[6] - w[3] * w[8]) / det,
-        (w[0] * w[8] - w[2] * w[6]) / det, (w[2] * w[3] - w[0] * w[5]) / det,
-        (w[3] * w[7] - w[4] * w[6]) / det, (w[1] * w[6] - w[0] * w[7]) / det,
-        (w[0] * w[4] - w[1] * w[3]) / det};
+    const auto inverse = inverted(written.rot, 0.5);
+    if (!inverse) return std::nullopt;
     const Pose& lattice = lattices_[size_t(g)];
     Vec3 offset{}, drawn{};
     for (int r = 0; r < 3; ++r)
       for (int k = 0; k < 3; ++k) {
         const double d = written.pos[size_t(k)] - lattice.origin[size_t(k)];
-        offset[size_t(r)] += inverse[size_t(3 * r + k)] * d;
+        offset[size_t(r)] += (*inverse)[size_t(3 * r + k)] * d;
         drawn[size_t(r)] += lattice.rotation[size_t(3 * k + r)] * d;
       }
     const Vec3 computed = Pose{quarter, {0, 0, 0}}.apply(offset);
