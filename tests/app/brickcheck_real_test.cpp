@@ -178,7 +178,7 @@ TEST(BrickcheckReal, AHingeJoiningTwoWalls) {
 // An arm on a turntable: the top half (it has cells, but they take the arm's plate, not the
 // base) turns on the base, so it is carried, a joint between the base and what stands on it; the
 // arm is analysed through it: a 1 x 8 brick on three knobs of the plate, PHYSICS.md's check.
-// Until 2026-12-01 the top and everything on it "met nothing that stands" and were carried (the
+// Until 2026-12-02 the top and everything on it "met nothing that stands" and were carried (the
 // corpus's tower crane: 96 parts of its arm). A half turning on nothing of its kind holds
 // nothing.
 TEST(BrickcheckReal, AnArmOnATurntable) {

@@ -862,7 +862,7 @@ TEST(BrickcheckCorpus, TheSolverDoesNotCrawlOnRealBuildings) {
   EXPECT_EQ(safe_house["lp"]["solver"], "interior point");
   json fire_company = check_datsville("building_007_firecompany.mpd", 1);
   // 68.744 until its turned plates held the plates on their studs by those studs rather than
-  // by assumed-rigid joints (2026-12-01).
+  // by assumed-rigid joints (2026-12-02).
   EXPECT_NEAR(fire_company["cm_gf"].get<double>(), 68.204, 1e-3);
   EXPECT_LE(fire_company["lp"]["iterations"], 60);
   EXPECT_EQ(fire_company["lp"]["solver"], "interior point");
@@ -907,7 +907,7 @@ TEST(BrickcheckCorpus, TheMosquesWallsTurnedPartByPartAreAnalysed) {
 }
 
 // The water tower's ring of 1 x 3 bricks, each turned by its own angle on a stud of the one
-// below (278 of its 393 parts analysed before 2026-12-01, when those studs became connections);
+// below (278 of its 393 parts analysed before 2026-12-02, when those studs became connections);
 // the tower crane's arm on its turntable (95 of 335, when the turntable's top became the joint it
 // is).
 TEST(BrickcheckCorpus, RingsOnStudsAndArmsOnTurntablesAreAnalysed) {
