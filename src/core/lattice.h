@@ -1,4 +1,6 @@
 #pragma once
+#include <cmath>
+
 // The LEGO lattice and its units. Lattice coordinates: x and z in studs, y in plates counted
 // upwards. LDraw coordinates (LDU, -y up) are converted in src/ldraw/ only.
 
@@ -14,6 +16,22 @@ inline constexpr double kMmPerPlate = 3.2;
 
 // A plate's height expressed in studs (8 LDU / 20 LDU): the vertical unit of physics code.
 inline constexpr double kStudsPerPlate = double(kLduPerPlate) / double(kLduPerStud);
+
+// Where a coordinate lies on a grid of `pitch` (LDU): its residue in hundredths of an LDU, in
+// [0, pitch·100), what the parts of a model vote on to find the grid they share (the plates'
+// height, the studs across).
+inline long residue_hundredths(double v, double pitch) {
+  return std::lround(std::fmod(std::fmod(v, pitch) + pitch, pitch) * 100) %
+         std::lround(pitch * 100);
+}
+// The shift in [−pitch/2, pitch/2] that brings v onto the nearest line of the grid of `pitch`
+// through `at`: how far an editor's nudge moved it.
+inline double onto_grid(double v, double at, double pitch) {
+  double d = std::fmod(v - at, pitch);
+  if (d > pitch / 2) d -= pitch;
+  if (d < -pitch / 2) d += pitch;
+  return -d;
+}
 
 struct LatticePoint {
   int x = 0, y = 0, z = 0;

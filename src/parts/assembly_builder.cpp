@@ -29,6 +29,14 @@ double dot3(const double* a, const double* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+using Matrix = std::array<double, 9>;  // row-major
+Matrix product(const Matrix& a, const Matrix& b) {
+  return Pose{a, {0, 0, 0}}.then(Pose{b, {0, 0, 0}}).rotation;
+}
+Matrix transposed(const Matrix& m) {
+  return {m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]};
+}
+
 // m⁻¹ (row-major), or nullopt where its determinant is below `smallest` in size.
 std::optional<std::array<double, 9>> inverted(const std::array<double, 9>& m, double smallest) {
   const double det = ldraw::Transform{{}, m}.determinant();
@@ -47,10 +55,11 @@ bool near_orthogonal(const std::array<double, 9>& m, double tolerance) {
   for (int it = 0; it < 20; ++it) {
     const auto inverse = inverted(r, 1e-9);
     if (!inverse) return false;
+    const Matrix inverse_t = transposed(*inverse);
     double change = 0;
     std::array<double, 9> next;
     for (size_t k = 0; k < 9; ++k) {
-      next[k] = (r[k] + (*inverse)[3 * (k % 3) + k / 3]) / 2;  // (R + R⁻ᵀ) / 2
+      next[k] = (r[k] + inverse_t[k]) / 2;
       change = std::max(change, std::abs(next[k] - r[k]));
     }
     r = next;
@@ -133,11 +142,7 @@ std::optional<std::array<double, 9>> model_frame(const ldraw::Model& model) {
       perm[size_t(3 * row + best)] = (*r)[size_t(3 * row + best)] > 0 ? 1 : -1;
     }
     if (!ok) continue;
-    std::array<double, 9> q{};  // R·Pᵀ
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b)
-        for (int k = 0; k < 3; ++k)
-          q[size_t(3 * a + b)] += (*r)[size_t(3 * a + k)] * perm[size_t(3 * b + k)];
+    const Matrix q = product(*r, transposed(perm));  // R·Pᵀ
     std::array<long, 9> key;
     for (int k = 0; k < 9; ++k) key[size_t(k)] = std::lround(q[size_t(k)] * 100);
     auto& v = votes[key];
@@ -168,9 +173,7 @@ double plate_offset(const ldraw::Model& model,
   for (const ldraw::PlacedPart& p : model.parts) {
     const ldraw::Transform t = in_frame(p.transform);
     if (std::abs(std::abs(t.rot[4]) - 1) > kQuarterTurnTolerance) continue;  // not upright
-    const double residue =
-        std::fmod(std::fmod(t.pos[1], kLduPerPlate) + kLduPerPlate, kLduPerPlate);
-    ++votes[std::lround(residue * 100) % std::lround(kLduPerPlate * 100)];
+    ++votes[residue_hundredths(t.pos[1], kLduPerPlate)];
   }
   long best = 0;
   int most = 0;
@@ -182,10 +185,8 @@ double plate_offset(const ldraw::Model& model,
 // The height (LDU) that brings an origin at height `y` onto the model's plates when it lies off
 // them by at most kPlateSlip, else zero.
 double plate_slip(double y, double offset) {
-  double d = std::fmod(y - offset, kLduPerPlate);
-  if (d > kLduPerPlate / 2) d -= kLduPerPlate;
-  if (d < -kLduPerPlate / 2) d += kLduPerPlate;
-  return std::abs(d) > kOnLattice && std::abs(d) <= kPlateSlip ? -d : 0;
+  const double shift = onto_grid(y, offset, kLduPerPlate);
+  return std::abs(shift) > kOnLattice && std::abs(shift) <= kPlateSlip ? shift : 0;
 }
 
 // README "What it analyses", turned lattices: a part turned by an angle that is not a multiple of
@@ -244,12 +245,7 @@ class PartTurnLattices {
   std::optional<FramedPart> place(const std::array<double, 9>& rotation,
                                   const ldraw::Transform& written) {
     for (size_t g = 0; g < lattices_.size(); ++g) {
-      std::array<double, 9> relative{};  // Qᵀ·R
-      const auto& q = lattices_[g].rotation;
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c)
-          for (int k = 0; k < 3; ++k)
-            relative[size_t(3 * r + c)] += q[size_t(3 * k + r)] * rotation[size_t(3 * k + c)];
+      const Matrix relative = product(transposed(lattices_[g].rotation), rotation);  // Qᵀ·R
       if (const auto quarter = quarter_turn(relative, kSameTurn))
         return on_lattice(int(g), *quarter, written);
     }
@@ -268,11 +264,7 @@ class PartTurnLattices {
         std::array<double, 9> p{};
         for (int r = 0; r < 3; ++r) p[size_t(3 * r + order[r])] = (signs >> r & 1) ? -1 : 1;
         if (ldraw::Transform{{}, p}.determinant() != hand) continue;
-        std::array<double, 9> q{};  // R·Pᵀ
-        for (int a = 0; a < 3; ++a)
-          for (int b = 0; b < 3; ++b)
-            for (int k = 0; k < 3; ++k)
-              q[size_t(3 * a + b)] += rotation[size_t(3 * a + k)] * p[size_t(3 * b + k)];
+        const Matrix q = product(rotation, transposed(p));  // R·Pᵀ
         if (q[4] > most_up) most_up = q[4], own = p, lattice.rotation = q;
       }
     if (tilted(LatticeFrame{0, lattice})) return std::nullopt;
@@ -335,18 +327,8 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
                  180 / M_PI)});
   auto in_frame = [&](const ldraw::Transform& t) {
     if (!frame) return t;
-    ldraw::Transform out_t;  // Fᵀ·t
-    for (int a = 0; a < 3; ++a) {
-      out_t.pos[size_t(a)] = 0;
-      for (int k = 0; k < 3; ++k)
-        out_t.pos[size_t(a)] += (*frame)[size_t(3 * k + a)] * t.pos[size_t(k)];
-      for (int b = 0; b < 3; ++b) {
-        double v = 0;
-        for (int k = 0; k < 3; ++k) v += (*frame)[size_t(3 * k + a)] * t.rot[size_t(3 * k + b)];
-        out_t.rot[size_t(3 * a + b)] = v;
-      }
-    }
-    return out_t;
+    const Pose back = Pose{transposed(*frame), {0, 0, 0}}.then(Pose{t.rot, t.pos});  // Fᵀ·t
+    return ldraw::Transform{back.origin, back.rotation};
   };
   const double plates = plate_offset(model, in_frame);
   const ldraw::Transform model_turn = in_frame(ldraw::Transform{});  // Fᵀ: where lattices start

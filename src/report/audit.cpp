@@ -188,21 +188,17 @@ bool nudge_beside_the_lattice(Audit& audit, const std::vector<char>& floating,
   // The lattice across: the residue (hundredths of an LDU, modulo half a stud) most parts share.
   constexpr double kGrid = kLduPerStud / 2;
   std::map<std::pair<long, long>, int> votes;
-  auto residue = [&](double v) {
-    return std::lround(std::fmod(std::fmod(v, kGrid) + kGrid, kGrid) * 100) %
-           std::lround(kGrid * 100);
-  };
   for (const Brick& b : a.bricks)
-    if (b.pose && !b.frame) ++votes[{residue(b.pose->origin[0]), residue(b.pose->origin[2])}];
+    if (b.pose && !b.frame)
+      ++votes[{residue_hundredths(b.pose->origin[0], kGrid),
+               residue_hundredths(b.pose->origin[2], kGrid)}];
   if (votes.empty()) return false;
   const auto grid = std::max_element(votes.begin(), votes.end(), [](const auto& x, const auto& y) {
                       return x.second < y.second;
                     })->first;
   auto slip = [&](double v, long at) {
-    double d = std::fmod(v - double(at) / 100, kGrid);
-    if (d > kGrid / 2) d -= kGrid;
-    if (d < -kGrid / 2) d += kGrid;
-    return std::abs(d) <= 1 + 1e-6 ? -d : 0.0;
+    const double shift = onto_grid(v, double(at) / 100, kGrid);
+    return std::abs(shift) <= 1 + 1e-6 ? shift : 0.0;
   };
   std::vector<std::pair<int, Vec3>> moved;  // brick, its origin as drawn
   for (size_t i = 0; i < a.bricks.size(); ++i) {
@@ -268,16 +264,15 @@ void carry_unconnected(Audit& audit, physics::GroundMode ground) {
   auto holds = [&](int b) {
     return b != physics::kGround && !floating[size_t(b)] && a.bricks[size_t(b)].type->pivots;
   };
-  for (size_t i = 0; i < a.bricks.size(); ++i) {
-    if (!floating[i] || !a.bricks[i].type->pivots) continue;
-    for (int k : graph.contacts_of[i]) {
-      const auto& c = graph.contacts[size_t(k)];
-      if (holds(c.lower == int(i) ? c.upper : c.lower)) pivots[i] = 1;
-    }
-    for (const auto& [x, y] : graph.overlaps)
-      if ((x == int(i) && holds(y)) || (y == int(i) && holds(x))) pivots[i] = 1;
-    any = any || pivots[i];
-  }
+  auto turns_on = [&](int x, int y) {  // x, floating, turns on y
+    if (x == physics::kGround || !floating[size_t(x)] || !a.bricks[size_t(x)].type->pivots ||
+        !holds(y))
+      return;
+    pivots[size_t(x)] = 1;
+    any = true;
+  };
+  for (const auto& c : graph.contacts) turns_on(c.lower, c.upper), turns_on(c.upper, c.lower);
+  for (const auto& [x, y] : graph.overlaps) turns_on(x, y), turns_on(y, x);
   if (any) {
     carry_bricks(audit, pivots, "a hinge or turntable half: it turns on what holds it");
     floating = floating_bricks().second;
