@@ -33,6 +33,12 @@ inline double onto_grid(double v, double at, double pitch) {
   return -d;
 }
 
+// A stud is 6 LDU in radius and its receptacle's cell reaches 10 LDU either side of the
+// receptacle: a stud whose centre a model draws within this of a receptacle's, on a part touching
+// the receptacle's part face to face, lies inside that cell and can be nowhere but in the
+// receptacle. How far a part placed by eye may be from where it snaps.
+inline constexpr double kStudInCellLdu = kLduPerStud / 2.0 - 6.0;
+
 struct LatticePoint {
   int x = 0, y = 0, z = 0;
   friend bool operator==(const LatticePoint&, const LatticePoint&) = default;

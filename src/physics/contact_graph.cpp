@@ -352,8 +352,11 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   // Studs in receptacles of another lattice, both upright (README "What it analyses", turned
   // lattices): a stud in a receptacle is a connection however the two parts are turned about it
   // (the water tower's ring of 1 x 3 bricks, each turned on a stud of the one below). Found where
-  // the model puts them, within the LDU a carried part reaches: the corpus places such rings by
-  // eye, a stud 0.2-0.8 LDU from the receptacle it is in.
+  // the model puts them: the corpus places such rings by eye, a stud up to 3 LDU from the
+  // receptacle it is in, so within the receptacle's cell (kStudInCellLdu). Two parts joined by
+  // more than one stud cannot be turned against each other: their studs must then be off their
+  // receptacles by one common shift (within the LDU a part placed by eye strays), else none of
+  // them is in a receptacle.
   std::set<std::pair<int, int>> snapped_across;
   if (any_turned) {
     // Upright parts of turned lattices, and the parts of other lattices within reach of them.
@@ -370,7 +373,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
         });
     }
     auto vertical = [](const Connector& c) { return axis_of(c.direction) == 1; };
-    constexpr double kCell = 2;
+    constexpr double kCell = kStudInCellLdu;
     auto cell = [&](const Vec3& p, int direction) {
       return std::tuple(int64_t(std::floor(p[0] / kCell)), int64_t(std::floor(p[1] / kCell)),
                         int64_t(std::floor(p[2] / kCell)), direction);
@@ -391,6 +394,12 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
           }
     std::sort(placed.begin(), placed.end(),
               [](const Placed& x, const Placed& y) { return x.cell < y.cell; });
+    struct Engaged {
+      int lower, upper, direction;
+      Vec3 at;     // the receptacle, in the upper part's lattice frame
+      Vec3 shift;  // from the stud to the receptacle, in the model
+    };
+    std::vector<Engaged> engaged;
     for (int l = 0; l < n; ++l) {
       if (!across[size_t(l)]) continue;
       for (const Connector& k : shapes[size_t(l)].studs) {
@@ -408,17 +417,35 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
                 if (u == l || frame_of(u) == frame_of(l) ||
                     (g.fixed[size_t(l)] && g.fixed[size_t(u)]))
                   continue;
-                if (std::abs(it->model[1] - m[1]) > kTouch ||
-                    std::hypot(it->model[0] - m[0], it->model[2] - m[2]) > kCarriedReach)
+                const Vec3 shift{it->model[0] - m[0], it->model[1] - m[1], it->model[2] - m[2]};
+                if (std::abs(shift[1]) > kTouch || std::hypot(shift[0], shift[2]) > kStudInCellLdu)
                   continue;
-                // In the lattice frame of `u`, where its receptacle is.
-                Meeting& meet = meeting(l, u, k.direction, it->at[1]);
-                meet.receptacles.push_back(it->at);
-                meet.across = true;
-                snapped_across.emplace(std::min(l, u), std::max(l, u));
+                engaged.push_back({l, u, k.direction, it->at, shift});
               }
             }
       }
+    }
+    std::stable_sort(engaged.begin(), engaged.end(), [](const Engaged& x, const Engaged& y) {
+      return std::pair(x.lower, x.upper) < std::pair(y.lower, y.upper);
+    });
+    for (size_t first = 0, last = 0; first < engaged.size(); first = last) {
+      while (last < engaged.size() && engaged[last].lower == engaged[first].lower &&
+             engaged[last].upper == engaged[first].upper)
+        ++last;
+      bool common = true;
+      for (size_t i = first; i < last && common; ++i)
+        for (size_t j = first; j < i && common; ++j)
+          common = std::hypot(engaged[i].shift[0] - engaged[j].shift[0],
+                              engaged[i].shift[2] - engaged[j].shift[2]) <= kCarriedReach;
+      if (!common) continue;
+      for (size_t i = first; i < last; ++i) {
+        const Engaged& e = engaged[i];
+        Meeting& meet = meeting(e.lower, e.upper, e.direction, e.at[1]);
+        meet.receptacles.push_back(e.at);
+        meet.across = true;
+      }
+      snapped_across.emplace(std::min(engaged[first].lower, engaged[first].upper),
+                             std::max(engaged[first].lower, engaged[first].upper));
     }
   }
 
