@@ -176,40 +176,51 @@ void carry_lone_turned(Audit& audit, physics::GroundMode ground) {
   carry_bricks(audit, alone, "turned by an angle that is not a multiple of 90 degrees");
 }
 
-// LDraw editors nudge parts by one LDU. Upright, the builder takes a part that far above or below
-// the model's plates as on them; across, a part one LDU beside the lattice may be a SNOT assembly
-// offset on purpose (the town hall's), which holds together as drawn. So across, only parts whose
-// studs and receptacles meet nothing that stands (`floating`) are moved onto the lattice, and
-// only those that then meet what stands stay moved, each with a warning naming its line.
-// Returns whether any did.
-bool nudge_beside_the_lattice(Audit& audit, const std::vector<char>& floating,
-                              physics::GroundMode ground) {
+// LDraw editors nudge parts by one LDU, and authors place parts by eye. The builder takes an
+// upright part one LDU above or below the model's plates as on them; across, a part beside the
+// lattice may be a SNOT assembly offset on purpose (the town hall's), which holds together as
+// drawn. So only parts whose studs and receptacles meet nothing that stands (`floating`) are
+// moved onto the lattice, and only those that then meet what stands stay moved, each with a
+// warning naming its line. Across, as far as a stud stays inside its receptacle's cell
+// (kStudInCellLdu); up and down, upright parts as far as half a stud's height: drawn 2 LDU
+// above its plates (the bait shop's roof) a part still sits on the studs' upper half, drawn below
+// it would cut into the part under it. Returns whether any did.
+bool nudge_onto_the_lattice(Audit& audit, const std::vector<char>& floating,
+                            physics::GroundMode ground) {
   Assembly& a = audit.conversion.assembly;
-  // The lattice across: the residue (hundredths of an LDU, modulo half a stud) most parts share.
+  constexpr double kHalfStudHeight = 2.0;
+  // The lattice: the residue (hundredths of an LDU) most parts share, across modulo half a stud,
+  // up modulo a plate.
   constexpr double kGrid = kLduPerStud / 2;
   std::map<std::pair<long, long>, int> votes;
+  std::map<long, int> heights;
+  auto upright = [](const Brick& b) { return std::abs(std::abs(b.pose->rotation[4]) - 1) < 1e-9; };
   for (const Brick& b : a.bricks)
-    if (b.pose && !b.frame)
+    if (b.pose && !b.frame) {
       ++votes[{residue_hundredths(b.pose->origin[0], kGrid),
                residue_hundredths(b.pose->origin[2], kGrid)}];
+      if (upright(b)) ++heights[residue_hundredths(b.pose->origin[1], kLduPerPlate)];
+    }
   if (votes.empty()) return false;
-  const auto grid = std::max_element(votes.begin(), votes.end(), [](const auto& x, const auto& y) {
-                      return x.second < y.second;
-                    })->first;
-  auto slip = [&](double v, long at) {
-    const double shift = onto_grid(v, double(at) / 100, kGrid);
-    return std::abs(shift) <= 1 + 1e-6 ? shift : 0.0;
+  auto most = [](const auto& x, const auto& y) { return x.second < y.second; };
+  const auto grid = std::max_element(votes.begin(), votes.end(), most)->first;
+  const long plates =
+      heights.empty() ? 0 : std::max_element(heights.begin(), heights.end(), most)->first;
+  auto slip = [&](double v, long at, double pitch, double reach) {
+    const double shift = onto_grid(v, double(at) / 100, pitch);
+    return std::abs(shift) <= reach + 1e-6 ? shift : 0.0;
   };
   std::vector<std::pair<int, Vec3>> moved;  // brick, its origin as drawn
   for (size_t i = 0; i < a.bricks.size(); ++i) {
     Brick& b = a.bricks[i];
     if (!floating[i] || !b.pose || b.frame) continue;
-    const double dx = slip(b.pose->origin[0], grid.first),
-                 dz = slip(b.pose->origin[2], grid.second);
-    if (std::abs(dx) < 1e-3 && std::abs(dz) < 1e-3) continue;
+    const Vec3 shift{
+        slip(b.pose->origin[0], grid.first, kGrid, kStudInCellLdu),
+        upright(b) ? slip(b.pose->origin[1], plates, kLduPerPlate, kHalfStudHeight) : 0.0,
+        slip(b.pose->origin[2], grid.second, kGrid, kStudInCellLdu)};
+    if (std::max({std::abs(shift[0]), std::abs(shift[1]), std::abs(shift[2])}) < 1e-3) continue;
     moved.emplace_back(int(i), b.pose->origin);
-    b.pose->origin[0] += dx;
-    b.pose->origin[2] += dz;
+    for (int k = 0; k < 3; ++k) b.pose->origin[size_t(k)] += shift[size_t(k)];
   }
   if (moved.empty()) return false;
   const auto connectivity =
@@ -224,12 +235,21 @@ bool nudge_beside_the_lattice(Audit& audit, const std::vector<char>& floating,
       continue;
     }
     any = true;
+    const double across =
+        std::max(std::abs(b.pose->origin[0] - drawn[0]), std::abs(b.pose->origin[2] - drawn[2]));
+    const double below = drawn[1] - b.pose->origin[1];  // LDraw's y points down
+    std::string where;
+    if (across > 1e-3) where = fmt::format("{:g} LDU beside the lattice", across);
+    if (std::abs(below) > 1e-3)
+      where += fmt::format("{}{:g} LDU {} the plates", where.empty() ? "" : " and ",
+                           std::abs(below), below > 0 ? "below" : "above");
+    const bool both = across > 1e-3 && std::abs(below) > 1e-3;
     audit.conversion.diagnostics.push_back(
         {ldraw::Severity::Warning, b.source.file, b.source.line,
-         fmt::format("placed {:g} LDU beside the lattice the model's other parts share, its studs "
-                     "meeting nothing: taken as on it, where they meet what stands",
-                     std::max(std::abs(b.pose->origin[0] - drawn[0]),
-                              std::abs(b.pose->origin[2] - drawn[2])))});
+         fmt::format("placed {} the model's other parts {}, its studs meeting nothing: taken as "
+                     "on {}, where they meet what stands",
+                     where, across > 1e-3 ? "share" : "stand on",
+                     both || across < 1e-3 ? "them" : "it")});
   }
   return any;
 }
@@ -252,7 +272,7 @@ void carry_unconnected(Audit& audit, physics::GroundMode ground) {
   };
   auto [graph, floating] = floating_bricks();
   if (std::find(floating.begin(), floating.end(), 1) == floating.end()) return;
-  if (nudge_beside_the_lattice(audit, floating, ground)) {
+  if (nudge_onto_the_lattice(audit, floating, ground)) {
     auto again = floating_bricks();
     graph = std::move(again.first);
     floating = std::move(again.second);

@@ -985,6 +985,13 @@ TEST(BrickcheckCorpus, APartOneLduOffItsPlatesIsAnalysed) {
     beside += d["message"].get<std::string>().find("LDU beside the lattice") != std::string::npos;
   EXPECT_GE(beside, 10);
   EXPECT_GE(tower["bricks"].get<int>(), 165);
+  // The bait shop's roof plates, drawn 2 LDU above the walls, sit on their studs; the triplex's
+  // beds, drawn 2 LDU into the floor, stand on it.
+  json shop = check_datsville("building_020_baitshop.mpd", 0);
+  EXPECT_GE(shop["bricks"].get<int>(), 275) << shop["carried"].size();
+  json triplex = check_datsville("building_012_triplex.mpd", 1);
+  EXPECT_GE(triplex["bricks"].get<int>(), 766) << triplex["carried"].size();
+  for (const auto& c : triplex["carried"]) EXPECT_NE(c["line"], 22) << c;  // a bed's frame
 }
 
 // Across, a part one LDU beside the lattice whose studs meet nothing as drawn is taken as on the
@@ -1013,6 +1020,49 @@ TEST(Brickcheck, APartOneLduBesideTheLatticeIsTakenAsOnIt) {
   ASSERT_FALSE(j["weakest"].empty());
   EXPECT_EQ(j["weakest"][0]["b"]["line"], 4);  // two studs out: the top brick on the lower one
   EXPECT_LT(j["cm_gf"].get<double>(), 71.658);
+}
+
+// Placed by eye: a part whose studs meet nothing as drawn is taken as on the lattice where its
+// studs then meet what stands, as far as a stud stays inside its receptacle's cell across (4 LDU)
+// and half a stud's height up or down (2 LDU); farther off it is left where it is, carried.
+TEST(Brickcheck, APartPlacedByEyeIsTakenAsOnTheLattice) {
+  auto path = scratch("by-eye.ldr");
+  auto check = [&](const char* x, const char* y, int exit) {
+    std::ofstream(path) << fmt::format(
+        "0 by eye\n1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+        "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+        "1 1 {} {} 0 1 0 0 0 1 0 0 0 1 3001.dat\n",
+        x, y);
+    return check_json({path.string()}, exit);
+  };
+  auto warned = [](const json& j, const std::string& what) {
+    int n = 0;
+    for (const auto& d : j["diagnostics"])
+      if (d["message"].get<std::string>().find(what) != std::string::npos) {
+        ++n;
+        EXPECT_EQ(d["line"], 4) << d;
+      }
+    return n;
+  };
+  const json seated = check("40", "-48", 0);
+  ASSERT_EQ(seated["bricks"], 3);
+  const double cm = seated["cm_gf"];
+  for (auto [x, y, what] : {std::tuple{"43", "-48", "3 LDU beside the lattice"},
+                            {"40", "-50", "2 LDU above the plates"},
+                            {"40", "-46", "2 LDU below the plates"},
+                            {"37", "-50", "3 LDU beside the lattice and 2 LDU above the plates"}}) {
+    const json j = check(x, y, 0);
+    EXPECT_EQ(j["bricks"], 3) << x << " " << y;
+    EXPECT_TRUE(j["carried"].empty()) << x << " " << y;
+    EXPECT_EQ(warned(j, what), 1) << x << " " << y << j["diagnostics"];
+    EXPECT_NEAR(j["cm_gf"].get<double>(), cm, 1e-6 * cm) << x << " " << y;
+  }
+  for (auto [x, y] : {std::pair{"45", "-48"}, {"40", "-51"}}) {
+    const json j = check(x, y, 0);  // carried, on what it touches
+    EXPECT_EQ(j["bricks"], 2) << x << " " << y;
+    ASSERT_EQ(j["carried"].size(), 1u) << x << " " << y;
+    EXPECT_EQ(j["carried"][0]["reason"], "its studs and receptacles meet nothing that stands");
+  }
 }
 
 // Where nothing balances, the report names what tips or hangs: every part that the least virtual
