@@ -176,6 +176,19 @@ void carry_lone_turned(Audit& audit, physics::GroundMode ground) {
   carry_bricks(audit, alone, "turned by an angle that is not a multiple of 90 degrees");
 }
 
+// The assembly's contact graph, and per brick whether it reaches no ground (PHYSICS.md
+// "Floating").
+struct Floating {
+  physics::ContactGraph graph;
+  std::vector<char> bricks;
+};
+Floating floating_bricks(const Assembly& a, physics::GroundMode ground) {
+  Floating out{physics::ContactGraph::build(a, ground), std::vector<char>(a.bricks.size(), 0)};
+  for (int b : physics::analyze_connectivity(int(a.bricks.size()), out.graph).floating)
+    out.bricks[size_t(b)] = 1;
+  return out;
+}
+
 // LDraw editors nudge parts by one LDU, and authors place parts by eye. The builder takes an
 // upright part one LDU above or below the model's plates as on them; across, a part beside the
 // lattice may be a SNOT assembly offset on purpose (the town hall's), which holds together as
@@ -223,10 +236,7 @@ bool nudge_onto_the_lattice(Audit& audit, const std::vector<char>& floating,
     for (int k = 0; k < 3; ++k) b.pose->origin[size_t(k)] += shift[size_t(k)];
   }
   if (moved.empty()) return false;
-  const auto connectivity =
-      physics::analyze_connectivity(int(a.bricks.size()), physics::ContactGraph::build(a, ground));
-  std::vector<char> still(a.bricks.size(), 0);
-  for (int b : connectivity.floating) still[size_t(b)] = 1;
+  const std::vector<char> still = floating_bricks(a, ground).bricks;
   bool any = false;
   for (const auto& [i, drawn] : moved) {
     Brick& b = a.bricks[size_t(i)];
@@ -238,18 +248,17 @@ bool nudge_onto_the_lattice(Audit& audit, const std::vector<char>& floating,
     const double across =
         std::max(std::abs(b.pose->origin[0] - drawn[0]), std::abs(b.pose->origin[2] - drawn[2]));
     const double below = drawn[1] - b.pose->origin[1];  // LDraw's y points down
+    const bool beside = across > 1e-3, off_plates = std::abs(below) > 1e-3;
     std::string where;
-    if (across > 1e-3) where = fmt::format("{:g} LDU beside the lattice", across);
-    if (std::abs(below) > 1e-3)
-      where += fmt::format("{}{:g} LDU {} the plates", where.empty() ? "" : " and ",
-                           std::abs(below), below > 0 ? "below" : "above");
-    const bool both = across > 1e-3 && std::abs(below) > 1e-3;
+    if (beside) where = fmt::format("{:g} LDU beside the lattice", across);
+    if (off_plates)
+      where += fmt::format("{}{:g} LDU {} the plates", beside ? " and " : "", std::abs(below),
+                           below > 0 ? "below" : "above");
     audit.conversion.diagnostics.push_back(
         {ldraw::Severity::Warning, b.source.file, b.source.line,
          fmt::format("placed {} the model's other parts {}, its studs meeting nothing: taken as "
                      "on {}, where they meet what stands",
-                     where, across > 1e-3 ? "share" : "stand on",
-                     both || across < 1e-3 ? "them" : "it")});
+                     where, beside ? "share" : "stand on", off_plates ? "them" : "it")});
   }
   return any;
 }
@@ -262,22 +271,12 @@ bool nudge_onto_the_lattice(Audit& audit, const std::vector<char>& floating,
 // half, so it is carried as PHYSICS.md carries hinges, a joint between what it touches, and what
 // hangs on it stands through it (the tower crane's arm on its turntable).
 void carry_unconnected(Audit& audit, physics::GroundMode ground) {
-  auto floating_bricks = [&] {
-    const Assembly& a = audit.conversion.assembly;
-    auto graph = physics::ContactGraph::build(a, ground);
-    const auto connectivity = physics::analyze_connectivity(int(a.bricks.size()), graph);
-    std::vector<char> floating(a.bricks.size(), 0);
-    for (int b : connectivity.floating) floating[size_t(b)] = 1;
-    return std::pair(std::move(graph), std::move(floating));
-  };
-  auto [graph, floating] = floating_bricks();
-  if (std::find(floating.begin(), floating.end(), 1) == floating.end()) return;
-  if (nudge_onto_the_lattice(audit, floating, ground)) {
-    auto again = floating_bricks();
-    graph = std::move(again.first);
-    floating = std::move(again.second);
-  }
   const Assembly& a = audit.conversion.assembly;
+  Floating now = floating_bricks(a, ground);
+  if (std::find(now.bricks.begin(), now.bricks.end(), 1) == now.bricks.end()) return;
+  if (nudge_onto_the_lattice(audit, now.bricks, ground)) now = floating_bricks(a, ground);
+  const physics::ContactGraph& graph = now.graph;
+  std::vector<char>& floating = now.bricks;
   std::vector<char> pivots(a.bricks.size(), 0);
   bool any = false;
   // Its other half, standing: a hinge turns on a hinge, a turntable top on its base.
@@ -295,7 +294,7 @@ void carry_unconnected(Audit& audit, physics::GroundMode ground) {
   for (const auto& [x, y] : graph.overlaps) turns_on(x, y), turns_on(y, x);
   if (any) {
     carry_bricks(audit, pivots, "a hinge or turntable half: it turns on what holds it");
-    floating = floating_bricks().second;
+    floating = floating_bricks(a, ground).bricks;
   }
   carry_bricks(audit, floating, "its studs and receptacles meet nothing that stands");
 }
