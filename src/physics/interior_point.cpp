@@ -48,6 +48,10 @@ constexpr double kCorrectorAccuracy = 1e-10, kPredictorAccuracy = 1e-8;
 // Iterations with μ negligible before the method stops with its best point.
 constexpr int kStalledIterations = 6;
 
+// Rows are suspected of depending on others when a pivot of A·Aᵀ is below this fraction of its
+// diagonal entry; dependent_rows() then decides, at its own finer threshold and in its own order.
+constexpr double kSuspectPivot = 1e-6;
+
 double max_step(const Vec& v, const Vec& dv) {
   double alpha = 1.0;
   for (Eigen::Index i = 0; i < v.size(); ++i)
@@ -151,9 +155,9 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
   const bool trace = std::getenv("LEGO_IPM_TRACE") != nullptr;
   const int m_used = m;
   // Rows that depend on others make A·Θ·Aᵀ singular. They are rare (a sub-assembly hanging on a
-  // single contact), so the first attempt keeps every row and reads the first factor's pivots:
-  // a pivot at the regularization's level marks a dependent row, and only then are such rows
-  // found properly and dropped (the solution is checked against them at the end).
+  // single contact), so the first attempt keeps every row and reads the pivots of A·Aᵀ in the
+  // method's order: a small one makes such rows suspect, and only then are they found properly
+  // and dropped (the solution is checked against them at the end).
   enum class Outcome { Done, DependentRows };
   auto attempt = [&](const std::vector<char>& dependent, bool watch_pivots) -> Outcome {
     std::vector<int> row_map(size_t(p.rows), -1);
@@ -179,12 +183,13 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
     Vec has_up(n);
     for (int j = 0; j < n; ++j) has_up[j] = std::isfinite(up[j]) ? 1.0 : 0.0;
     // Start inside the bounds, near zero: the middle of a narrow box, else zero moved at least a
-    // unit inside the bounds (a wide box's middle can be absurdly far from any solution).
+    // unit inside a box (a wide box's middle can be absurdly far from any solution), and columns
+    // without an upper bound options.unbounded_start above their lower bound.
     Vec x(n), y = Vec::Zero(m);
     for (int j = 0; j < n; ++j)
-      x[j] = has_up[j] && up[j] - lo[j] <= 2
-                 ? 0.5 * (lo[j] + up[j])
-                 : std::clamp(0.0, lo[j] + 1, has_up[j] ? up[j] - 1 : 1e300);
+      x[j] = !has_up[j]           ? std::max(0.0, lo[j] + options.unbounded_start)
+             : up[j] - lo[j] <= 2 ? 0.5 * (lo[j] + up[j])
+                                  : std::clamp(0.0, lo[j] + 1, up[j] - 1);
     // The distances to the bounds are carried as variables of their own, moved by the same steps
     // as x: recomputed as u − x they would cancel to exactly zero for x → u.
     Vec xl = x - lo, xu = Vec::Ones(n);
@@ -290,6 +295,23 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
         analysed = true;
         if (trace) fmt::print(stderr, "    analyse {:.3f}s\n", seconds_since(t));
       }
+      if (watch_pivots && it == 0) {
+        // Rows that depend on others, suspected on A·Aᵀ itself: a pivot's ratio to its diagonal
+        // entry does not change when a row is scaled, but it does when the columns are weighted.
+        // Suspected on A·Θ·Aᵀ, the corpus's airport sculpture (a row that repeats others to
+        // 1e-5, the precision of its turned parts' coordinates) was caught with the normal forces
+        // starting at 4, missed at 5, and then our method and Clp's simplex found no equilibrium
+        // on that inconsistency (2026-12-02). One factorization more per analysis.
+        const Vec ones = Vec::Ones(n);
+        ++factorizations;
+        if (factor.factorize(normal.form(ones, kRegularization), A_dense,
+                             Vec::Ones(Eigen::Index(dense.size())))) {
+          const Vec pivots = factor.pivots();
+          const SpMat& M = normal.form(ones, 0.0);
+          for (Eigen::Index r = 0; r < m; ++r)
+            if (pivots[r] < kSuspectPivot * M.coeff(r, r)) return Outcome::DependentRows;
+        }
+      }
       // The equations are often dependent (a brick held at one point has a torque row that
       // repeats its force rows), so A·Θ·Aᵀ is only semi-definite. Regularize each row relative to
       // its own diagonal (the diagonal spans many orders of magnitude near the optimum); the
@@ -316,14 +338,8 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
           return Outcome::Done;
         }
       }
-      if (watch_pivots && it == 0) {
-        // A factor that needed more than the usual regularization is nearly singular already.
-        if (epsilon > kRegularization) return Outcome::DependentRows;
-        const Vec pivots = factor.pivots();
-        const SpMat& M = normal.form(theta, 0.0);
-        for (Eigen::Index r = 0; r < m; ++r)
-          if (pivots[r] < 1e-10 * M.coeff(r, r)) return Outcome::DependentRows;
-      }
+      // A factor that needed more than the usual regularization is nearly singular already.
+      if (watch_pivots && it == 0 && epsilon > kRegularization) return Outcome::DependentRows;
       // Conjugate gradients on the unregularized matrix, preconditioned by the regularized factor:
       // near the optimum a few directions are nearly singular, the factor is poor only there, and
       // CG resolves a few outlying directions in a few steps (plain refinement stalls on them).

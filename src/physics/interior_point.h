@@ -43,6 +43,9 @@ struct IpmOptions {
   // Stop when the best point has not halved its worst residual or gap in this many iterations
   // (0: never); the run then ends as one that could not reach its tolerance.
   int patience = 0;
+  // Where the columns without an upper bound start, above their lower bound (their multipliers
+  // at the inverse). The scaled LP starts its normal forces higher (scale_objective_options).
+  double unbounded_start = 1;
   // What the duality gap is measured against, given the primal objective: 1 + |objective| when
   // empty. A caller that needs less of the objective than its own relative accuracy says so here.
   std::function<double(double objective)> gap_scale;
