@@ -302,12 +302,11 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
         // 1e-5, the precision of its turned parts' coordinates) was caught with the normal forces
         // starting at 4, missed at 5, and then our method and Clp's simplex found no equilibrium
         // on that inconsistency (2026-12-02). One factorization more per analysis.
-        const Vec ones = Vec::Ones(n);
+        // The shift moves the diagonal the pivots are measured against by 1e-14 of itself.
+        const SpMat& M = normal.form(Vec::Ones(n), kRegularization);
         ++factorizations;
-        if (factor.factorize(normal.form(ones, kRegularization), A_dense,
-                             Vec::Ones(Eigen::Index(dense.size())))) {
+        if (factor.factorize(M, A_dense, Vec::Ones(Eigen::Index(dense.size())))) {
           const Vec pivots = factor.pivots();
-          const SpMat& M = normal.form(ones, 0.0);
           for (Eigen::Index r = 0; r < m; ++r)
             if (pivots[r] < kSuspectPivot * M.coeff(r, r)) return Outcome::DependentRows;
         }
