@@ -168,7 +168,15 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
     const SpMat A = m == m_used ? A_used : restrict_rows(p, row_map, m);
     const SpMat A_abs = A.cwiseAbs();
     const SpMat A_sparse = without_dense(A);
-    const std::vector<int> order = fill_reducing_order(A_sparse);
+    std::vector<int> body;
+    if (p.rows_per_body > 1)
+      for (int r = 0; r < p.rows; ++r)
+        if (row_map[r] >= 0) body.push_back(r / p.rows_per_body);
+    const RowOrder row_order = fill_reducing_order(A_sparse, body);
+    if (trace)
+      fmt::print(stderr, "order: {}, factor {:.3g} entries, {:.3g} flops\n", row_order.method,
+                 row_order.entries, row_order.flops);
+    const std::vector<int>& order = row_order.rows;
     NormalMatrix normal(A_sparse, order);
     Eigen::MatrixXd A_dense(m, Eigen::Index(dense.size()));
     for (size_t k = 0; k < dense.size(); ++k) A_dense.col(Eigen::Index(k)) = A.col(dense[k]);

@@ -19,6 +19,9 @@ struct IpmProblem {
   std::vector<double> value;
   std::vector<double> c, b, lower, upper;
   std::vector<double> q;  // the quadratic term's diagonal, ≥ 0; empty for an LP
+  // Rows come in blocks of this many, one per body (an equilibrium system's six): the normal
+  // matrix's fill-reducing order is also sought on the bodies (normal_equations.h).
+  int rows_per_body = 1;
   int columns() const { return int(c.size()); }
 };
 

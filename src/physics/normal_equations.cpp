@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <mutex>
 #include <numeric>
 
@@ -19,12 +20,28 @@ namespace {
 using Vec = Eigen::VectorXd;
 using SpMat = SparseMatrix;
 
-// Below this many flops per entry of L, AMD's order is kept (fill_reducing_order). Measured with
-// AMD, flops per entry and METIS's flops against AMD's: towers of 552 and 2,244 bricks 77 and
-// 85 (METIS x0.95 and x1.01); the crate sample 105 (x0.81); the globe sample 218 (x0.61); hollow
-// boxes of 516 to 8,558 bricks 163 to 586 (x0.38 to x0.27); bunnies, the teapot and the paper's
-// table 328 to 689 (x0.60 to x0.45).
+// Below this many flops per entry of L, METIS is not tried on the rows (fill_reducing_order).
+// Measured with AMD on the rows, flops per entry and METIS's flops against AMD's: towers of 552
+// and 2,244 bricks 77 and 85 (METIS x0.95 and x1.01); the crate sample 105 (x0.81); the globe
+// sample 218 (x0.61); hollow boxes of 516 to 8,558 bricks 163 to 586 (x0.38 to x0.27); bunnies,
+// the teapot and the paper's table 328 to 689 (x0.60 to x0.45).
 constexpr double kNarrowFactor = 100;
+// Where METIS on the bodies needs this many times AMD's flops on them, the model is a chain of
+// layers (a tower), and METIS on the rows is not tried either. The orders' flops, measured on
+// 2026-12-02 (AMD, METIS on the bodies; AMD, METIS on the rows):
+// - solid 16 x 16 towers, 2,229 bricks: 5.8e8, 9.7e8; 1.05e9, 7.9e8
+// - 8,940 bricks: 3.1e9, 5.1e9; 4.7e9, 4.2e9
+// - a 10 x 10 tower of 2,000 bricks: 3.1e7, 8.5e7; 6.3e7, 6.4e7
+// - a solid block of 20,778 bricks: 3.3e11, 1.6e11; 4.9e11, 1.3e11
+// - hollow boxes, 2,116 bricks: 2.9e8, 3.0e8; 4.9e8, 1.6e8
+// - 21,270 bricks: 1.9e10, 1.3e10; 2.4e10, 6.9e9
+// - the bunny 30 bricks high: 3.5e8, 4.0e8; 4.5e8, 2.7e8
+// METIS on the bodies against AMD on them: the towers x1.6 to x2.7, the bench's cantilever x1.7;
+// the globe and the spider x1.3, the crate x1.2, the bunny x1.1, the boxes x0.65 to x1.0, the
+// block x0.5. METIS on the rows takes 5 to 10 times AMD's time on them (1.6 s on the block, whose
+// factorizations it makes 21% cheaper; 0.55 s on the 8,940-brick tower, where it lost). On the
+// corpus's 318 analyses the factors' flops are 1% fewer in all than with the rows' orders alone.
+constexpr double kChainLike = 1.5;
 
 // Debian's CHOLMOD opens an OpenMP team of four (its compiled-in CHOLMOD_OMP_NUM_THREADS) for
 // small loops in every supernode, whatever OMP_NUM_THREADS says. On two cores those teams cost
@@ -271,40 +288,108 @@ const SpMat& NormalMatrix::form(const Vec& theta, double shift) {
   return matrix_;
 }
 
-std::vector<int> fill_reducing_order(const SpMat& A) {
-  serialize_openmp_regions();
-  SpMat pattern = lower_normal_pattern(A, EntriesByRow(A));
-  cholmod_common common;
-  cholmod_start(&common);
-  common.print = 0;
-  common.nmethods = 1;
-  common.postorder = 1;                    // so that the supernodes are contiguous
-  common.supernodal = CHOLMOD_SIMPLICIAL;  // the order is wanted, not the supernodes
-  cholmod_sparse view = Eigen::viewAsCholmod(pattern);
-  view.stype = -1;
-  auto analyse = [&](int ordering) {
-    common.method[0].ordering = ordering;
-    return cholmod_analyze(&view, &common);
-  };
-  // Minimum degree (AMD) first: it takes a tenth of METIS's time. Where its factor stays narrow
-  // (few flops per stored entry: a chain of layers such as a tower, whose fronts cannot grow)
-  // nested dissection finds no better order; elsewhere METIS's factors take a third to a half
-  // of AMD's flops, worth its 0.07 s at 2,000 bricks many times over.
-  cholmod_factor* symbolic = analyse(CHOLMOD_AMD);
-  if (symbolic && common.fl > kNarrowFactor * common.lnz) {
-    cholmod_free_factor(&symbolic, &common);
-    symbolic = analyse(CHOLMOD_METIS);
+namespace {
+
+// CHOLMOD's symbolic analysis of a lower-triangle pattern: orders and their factors' sizes.
+class SymbolicAnalysis {
+ public:
+  explicit SymbolicAnalysis(SpMat lower) : lower_(std::move(lower)) {
+    cholmod_start(&common_);
+    common_.print = 0;
+    common_.nmethods = 1;
+    common_.postorder = 1;                    // so that the supernodes are contiguous
+    common_.supernodal = CHOLMOD_SIMPLICIAL;  // the order is wanted, not the supernodes
+    view_ = Eigen::viewAsCholmod(lower_);
+    view_.stype = -1;
   }
-  std::vector<int> order(size_t(A.rows()));
-  if (symbolic) {
+  ~SymbolicAnalysis() { cholmod_finish(&common_); }
+  SymbolicAnalysis(const SymbolicAnalysis&) = delete;
+  SymbolicAnalysis& operator=(const SymbolicAnalysis&) = delete;
+
+  // CHOLMOD's AMD or METIS order, or (CHOLMOD_GIVEN) `given` postordered. Infinite flops when
+  // CHOLMOD ran out of memory (it will say so again).
+  RowOrder order(int ordering, const std::vector<int>& given = {}) {
+    common_.method[0].ordering = ordering;
+    cholmod_factor* symbolic = cholmod_analyze_p(
+        &view_, given.empty() ? nullptr : const_cast<int*>(given.data()), nullptr, 0, &common_);
+    RowOrder out;
+    out.flops = std::numeric_limits<double>::infinity();
+    if (!symbolic) return out;
     const auto* perm = static_cast<const int*>(symbolic->Perm);
-    order.assign(perm, perm + A.rows());
-  } else {
-    std::iota(order.begin(), order.end(), 0);  // out of memory: CHOLMOD will say so again
+    out.rows.assign(perm, perm + lower_.rows());
+    out.flops = common_.fl;
+    out.entries = common_.lnz;
+    cholmod_free_factor(&symbolic, &common_);
+    return out;
   }
-  cholmod_free_factor(&symbolic, &common);
-  cholmod_finish(&common);
-  return order;
+
+ private:
+  SpMat lower_;
+  cholmod_common common_;
+  cholmod_sparse view_;
+};
+
+// A's pattern with each row replaced by its body's: which bodies each column touches.
+SpMat body_pattern(const SpMat& A, const std::vector<int>& body, int bodies) {
+  std::vector<int> outer{0}, inner, mark(size_t(bodies), -1);
+  for (Eigen::Index j = 0; j < A.cols(); ++j) {
+    const size_t begin = inner.size();
+    for (SpMat::InnerIterator it(A, j); it; ++it) {
+      const int b = body[size_t(it.row())];
+      if (mark[size_t(b)] != int(j)) mark[size_t(b)] = int(j), inner.push_back(b);
+    }
+    std::sort(inner.begin() + long(begin), inner.end());
+    outer.push_back(int(inner.size()));
+  }
+  const std::vector<double> ones(inner.size(), 1.0);
+  return Eigen::Map<const SpMat>(bodies, A.cols(), Eigen::Index(inner.size()), outer.data(),
+                                 inner.data(), ones.data());
+}
+
+}  // namespace
+
+RowOrder fill_reducing_order(const SpMat& A, const std::vector<int>& body) {
+  serialize_openmp_regions();
+  SymbolicAnalysis rows(lower_normal_pattern(A, EntriesByRow(A)));
+  // Minimum degree (AMD) on the rows first: a tenth of METIS's time.
+  RowOrder best = rows.order(CHOLMOD_AMD);
+  best.method = "AMD on the rows";
+  bool chain = false;  // nested dissection lost to minimum degree on the bodies
+  int bodies = 0;
+  for (int b : body) bodies = std::max(bodies, b + 1);
+  if (bodies > 0 && bodies < A.rows()) {
+    // Both methods on the bodies, a sixth of the nodes and a thirtieth of the edges: METIS there
+    // takes about AMD's time on the rows.
+    const SpMat Q = body_pattern(A, body, bodies);
+    SymbolicAnalysis on_bodies(lower_normal_pattern(Q, EntriesByRow(Q)));
+    auto rows_of = std::vector<std::vector<int>>(size_t(bodies));
+    for (size_t r = 0; r < body.size(); ++r) rows_of[size_t(body[r])].push_back(int(r));
+    auto expanded = [&](int ordering, const char* method) {
+      std::vector<int> given;
+      for (int b : on_bodies.order(ordering).rows)
+        given.insert(given.end(), rows_of[size_t(b)].begin(), rows_of[size_t(b)].end());
+      RowOrder o = given.size() == size_t(A.rows()) ? rows.order(CHOLMOD_GIVEN, given) : RowOrder{};
+      o.method = method;
+      return o;
+    };
+    RowOrder amd = expanded(CHOLMOD_AMD, "AMD on the bodies"),
+             metis = expanded(CHOLMOD_METIS, "METIS on the bodies");
+    chain = metis.flops > kChainLike * amd.flops;
+    for (RowOrder* o : {&amd, &metis})
+      if (o->flops < best.flops) best = std::move(*o);
+  }
+  // METIS's nested dissection on the rows, where the best factor so far is broad (many flops per
+  // stored entry) and not a chain.
+  if (!chain && best.flops > kNarrowFactor * best.entries) {
+    RowOrder metis = rows.order(CHOLMOD_METIS);
+    metis.method = "METIS on the rows";
+    if (metis.flops < best.flops) best = std::move(metis);
+  }
+  if (best.rows.empty()) {  // out of memory: CHOLMOD will say so again
+    best.rows.resize(size_t(A.rows()));
+    std::iota(best.rows.begin(), best.rows.end(), 0);
+  }
+  return best;
 }
 
 struct NormalFactor::Cholmod {

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace lego::physics {
@@ -18,9 +19,17 @@ using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major, sorted rows 
 SparseMatrix renumber_rows(int rows, int columns, const int* start, const int* index,
                            const double* value, const std::vector<int>& row_map);
 
-// An order of A's rows for factoring A·Θ·Aᵀ, postordered: minimum degree (AMD) where its factor
-// stays narrow, else METIS's nested dissection. Row order[k] of A is row k of the matrix factored.
-std::vector<int> fill_reducing_order(const SparseMatrix& A);
+// An order of A's rows for factoring A·Θ·Aᵀ, postordered: of minimum degree (AMD) and METIS's
+// nested dissection, on the rows and, when `body` gives each row's body, on the bodies (each
+// body's rows then taken together), the one whose factor takes the fewest flops. METIS on the
+// rows, the costliest by far, only where the factor would be broad and the model is not a chain of
+// layers. Row rows[k] of A is row k of the matrix factored.
+struct RowOrder {
+  std::vector<int> rows;
+  std::string method;             // "AMD on the rows", "METIS on the bodies", ...
+  double flops = 0, entries = 0;  // of the factor in this order
+};
+RowOrder fill_reducing_order(const SparseMatrix& A, const std::vector<int>& body = {});
 
 // The lower triangle of A·Θ·Aᵀ, rows and columns in a fill-reducing order, on a pattern fixed
 // once: each column's outer product lands on known positions, so forming it per iteration is a

@@ -95,6 +95,7 @@ LpSolution solve_interior(const LpData& lp, const IpmOptions& options) {
   p.lower = lp.col_lower;
   p.upper = lp.col_upper;
   p.q = lp.quadratic_diagonal;
+  p.rows_per_body = EquilibriumSystem::kEquations;  // every LP here is an equilibrium system's
   IpmResult r = solve_interior_point(p, options);
   LpSolution s;
   s.iterations = r.iterations;

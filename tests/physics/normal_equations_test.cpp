@@ -9,6 +9,10 @@
 #include <numeric>
 #include <random>
 
+#include "../../tools/bench/shapes.h"
+#include "physics/contact_graph.h"
+#include "physics/force_model.h"
+
 namespace lego::physics {
 namespace {
 
@@ -41,7 +45,7 @@ Eigen::MatrixXd random_dense(int rows, int cols, unsigned seed) {
 
 TEST(NormalMatrix, FormsTheLowerTriangleOfAThetaAtInItsOrder) {
   const Problem p = random_problem(30, 90, 1);
-  const std::vector<int> order = fill_reducing_order(p.A);
+  const std::vector<int> order = fill_reducing_order(p.A).rows;
   Eigen::MatrixXd A(p.A);
   for (int k = 0; k < 30; ++k) A.row(k) = Eigen::MatrixXd(p.A).row(order[size_t(k)]);
   const Eigen::MatrixXd expected = A * p.theta.asDiagonal() * A.transpose();
@@ -58,18 +62,48 @@ TEST(NormalMatrix, FormsTheLowerTriangleOfAThetaAtInItsOrder) {
 
 TEST(NormalMatrix, FillReducingOrderIsAPermutationOfTheRows) {
   const Problem p = random_problem(50, 150, 2);
-  std::vector<int> order = fill_reducing_order(p.A);
+  std::vector<int> order = fill_reducing_order(p.A).rows;
   std::sort(order.begin(), order.end());
   std::vector<int> rows(50);
   std::iota(rows.begin(), rows.end(), 0);
   EXPECT_EQ(order, rows);
 }
 
+TEST(NormalMatrix, FillReducingOrderOnBodiesIsAPermutationOfTheRows) {
+  const Problem p = random_problem(48, 150, 3);
+  std::vector<int> body(48);
+  for (int r = 0; r < 48; ++r) body[size_t(r)] = r / 6 + (r >= 24 ? 1 : 0);  // body 4 has no rows
+  std::vector<int> order = fill_reducing_order(p.A, body).rows;
+  std::sort(order.begin(), order.end());
+  std::vector<int> rows(48);
+  std::iota(rows.begin(), rows.end(), 0);
+  EXPECT_EQ(order, rows);
+}
+
+// The bench's solid tower (16 x 16 studs, 2,229 bricks): ordered on its bricks, its factor takes
+// three quarters of the flops of the best order on its rows (measured: 5.8e8 against 7.9e8, METIS
+// on the rows; a tower of 32 layers 0.88, one of 16 layers is no chain yet and keeps METIS's).
+TEST(NormalMatrix, ASolidTowerIsOrderedOnItsBricks) {
+  const Assembly tower = bench::hollow_box(16, 16, 63, 8);
+  const ContactGraph graph = ContactGraph::build(tower, GroundMode::Baseplate);
+  const EquilibriumSystem sys =
+      build_equilibrium(tower, graph, analyze_connectivity(int(tower.bricks.size()), graph));
+  std::vector<int> all(size_t(sys.rows)), body(size_t(sys.rows));
+  std::iota(all.begin(), all.end(), 0);
+  for (int r = 0; r < sys.rows; ++r) body[size_t(r)] = EquilibriumSystem::body_of_row(r);
+  const SparseMatrix A = renumber_rows(sys.rows, sys.columns(), sys.column_start.data(),
+                                       sys.row_index.data(), sys.value.data(), all);
+  const RowOrder on_rows = fill_reducing_order(A), on_bodies = fill_reducing_order(A, body);
+  EXPECT_EQ(on_rows.method, "METIS on the rows");
+  EXPECT_EQ(on_bodies.method, "AMD on the bodies");
+  EXPECT_LT(on_bodies.flops, 0.8 * on_rows.flops);
+}
+
 // Solves (A·Θ·Aᵀ + D·Θ_D·Dᵀ)·v = r through NormalFactor, which factors it in a fill-reducing order
 // and speaks A's; the residual, relative to r.
 double product_form_residual(const Problem& p, const Eigen::MatrixXd& D,
                              const Eigen::VectorXd& theta_dense) {
-  const std::vector<int> order = fill_reducing_order(p.A);
+  const std::vector<int> order = fill_reducing_order(p.A).rows;
   NormalMatrix normal(p.A, order);
   NormalFactor factor(order);
   factor.analyse(normal.form(p.theta, 0));
