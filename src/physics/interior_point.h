@@ -49,6 +49,15 @@ struct IpmOptions {
   // Where the columns without an upper bound start, above their lower bound (their multipliers
   // at the inverse). The scaled LP starts its normal forces higher (scale_objective_options).
   double unbounded_start = 1;
+  // A point to start from instead (the solution of a nearby problem: the heat map's QP starts
+  // from the analysis's forces): each x_j at least `margin` inside its bounds (a quarter of a
+  // narrower box), its multipliers at mu over its slacks, so every complementarity product
+  // starts at mu. Empty x: the default start above.
+  struct WarmStart {
+    std::vector<double> x;
+    double margin = 0, mu = 0;
+  };
+  WarmStart warm_start;
   // What the duality gap is measured against, given the primal objective: 1 + |objective| when
   // empty. A caller that needs less of the objective than its own relative accuracy says so here.
   std::function<double(double objective)> gap_scale;
