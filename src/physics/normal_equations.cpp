@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <limits>
 #include <mutex>
 #include <numeric>
 
@@ -306,14 +305,13 @@ class SymbolicAnalysis {
   SymbolicAnalysis(const SymbolicAnalysis&) = delete;
   SymbolicAnalysis& operator=(const SymbolicAnalysis&) = delete;
 
-  // CHOLMOD's AMD or METIS order, or (CHOLMOD_GIVEN) `given` postordered. Infinite flops when
-  // CHOLMOD ran out of memory (it will say so again).
+  // CHOLMOD's AMD or METIS order, or (CHOLMOD_GIVEN) `given` postordered. No order when CHOLMOD
+  // ran out of memory (it will say so again).
   RowOrder order(int ordering, const std::vector<int>& given = {}) {
     common_.method[0].ordering = ordering;
     cholmod_factor* symbolic = cholmod_analyze_p(
         &view_, given.empty() ? nullptr : const_cast<int*>(given.data()), nullptr, 0, &common_);
     RowOrder out;
-    out.flops = std::numeric_limits<double>::infinity();
     if (!symbolic) return out;
     const auto* perm = static_cast<const int*>(symbolic->Perm);
     out.rows.assign(perm, perm + lower_.rows());

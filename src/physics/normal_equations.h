@@ -5,6 +5,7 @@
 // physics (it exposes Eigen types); interior_point.h is the interface.
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,9 +26,9 @@ SparseMatrix renumber_rows(int rows, int columns, const int* start, const int* i
 // rows, the costliest by far, only where the factor would be broad and the model is not a chain of
 // layers. Row rows[k] of A is row k of the matrix factored.
 struct RowOrder {
-  std::vector<int> rows;
-  std::string method;             // "AMD on the rows", "METIS on the bodies", ...
-  double flops = 0, entries = 0;  // of the factor in this order
+  std::vector<int> rows;  // empty: no order (CHOLMOD ran out of memory), never the best
+  std::string method;     // "AMD on the rows", "METIS on the bodies", ...
+  double flops = std::numeric_limits<double>::infinity(), entries = 0;  // of its factor
 };
 RowOrder fill_reducing_order(const SparseMatrix& A, const std::vector<int>& body = {});
 
