@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "physics/disjoint_sets.h"
+#include "physics/knob_grip.h"
 #include "physics/world_shape.h"
 
 namespace lego::physics {
@@ -190,25 +191,33 @@ void add_friction_points(const ReceptacleIndex& all, int upper, const Vec3& r, i
     p[size_t(s)] += ds * kStudPitch;
     return all.owned_by(p, facing, upper);
   };
-  auto point = [&](double df, double ds) {
-    Vec3 p = r;
-    p[size_t(f)] += df;
-    p[size_t(s)] += ds;
-    out.push_back({p[0], p[1], p[2]});
-  };
   const bool along_f = has(1, 0), back_f = has(-1, 0), along_s = has(0, 1), back_s = has(0, -1);
-  const double rim = kKnobRimRadius, diagonal = kKnobRimRadius / std::sqrt(2.0);
+  uint8_t touched = 0;  // the directions of the contacts (knob_grip.h)
+  auto touch = [&](int df, int ds) {
+    for (int d = 0; d < kGripDirections; ++d)
+      if (kGripStep[d][0] == df && kGripStep[d][1] == ds) touched |= uint8_t(1u << d);
+  };
   // A wall where the receptacles end; in a row one stud wide also the pins between them.
   const bool row_f = !along_s && !back_s, row_s = !along_f && !back_f;
-  if (!along_f || row_f) point(rim, 0);
-  if (!back_f || row_f) point(-rim, 0);
-  if (!along_s || row_s) point(0, rim);
-  if (!back_s || row_s) point(0, -rim);
+  if (!along_f || row_f) touch(1, 0);
+  if (!back_f || row_f) touch(-1, 0);
+  if (!along_s || row_s) touch(0, 1);
+  if (!back_s || row_s) touch(0, -1);
   // A tube between four studs: where the three neighbouring receptacles are all there.
   for (int df : {1, -1})
     for (int ds : {1, -1})
-      if ((df > 0 ? along_f : back_f) && (ds > 0 ? along_s : back_s) && has(df, ds))
-        point(df * diagonal, ds * diagonal);
+      if ((df > 0 ? along_f : back_f) && (ds > 0 ? along_s : back_s) && has(df, ds)) touch(df, ds);
+  const GripShares& grip = grip_shares(touched);
+  // Walls and pins first, then tubes: the order the columns have always had.
+  for (int d : {0, 4, 2, 6, 1, 7, 3, 5}) {
+    // A contact the knob's balance leaves unpressed holds nothing.
+    if (!(touched & (1u << d)) || grip.share[size_t(d)] < 1e-9) continue;
+    const double step = kGripStep[d][0] && kGripStep[d][1] ? 1 / std::sqrt(2.0) : 1;
+    Vec3 p = r;
+    p[size_t(f)] += kGripStep[d][0] * step * kKnobRimRadius;
+    p[size_t(s)] += kGripStep[d][1] * step * kKnobRimRadius;
+    out.push_back({p[0], p[1], p[2], grip.share[size_t(d)]});
+  }
 }
 
 }  // namespace

@@ -24,9 +24,11 @@ struct Rect {
   double area() const { return (u1 - u0) * (v1 - v0); }
 };
 
-// Where a stud of the lower part touches a receptacle of the upper one (PHYSICS.md).
+// Where a stud of the lower part touches a receptacle of the upper one (PHYSICS.md), and the
+// friction it can hold, as a share of T (physics/knob_grip.h).
 struct FrictionPoint {
   double x = 0, y = 0, z = 0;  // lattice frame, LDU
+  double share = 1;
 };
 
 // Two parts that meet in a plane perpendicular to `direction`, `upper` on its positive side.

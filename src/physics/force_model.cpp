@@ -103,7 +103,7 @@ class Builder {
 }  // namespace
 
 EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
-                                    const Connectivity& connectivity) {
+                                    const Connectivity& connectivity, const Formulation& model) {
   EquilibriumSystem s;
   const int n = int(a.bricks.size());
   std::vector<char> floating(size_t(n), 0);
@@ -152,7 +152,9 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
     return c.turned ? to_model_direction(a.bricks[size_t(c.upper)], d) : d;
   };
 
-  // Friction pulls the upper part towards the lower one, at the knob rim.
+  // Friction pulls the upper part towards the lower one, at the knob rim. A column's value is
+  // the force over the point's share of T (knob_grip.h), so that every friction column is
+  // bounded by T alike: the LP's C_M is T less the largest of those values.
   for (int ci = 0; ci < int(g.contacts.size()); ++ci) {
     if (!taken[size_t(ci)]) continue;
     const Contact& c = g.contacts[size_t(ci)];
@@ -160,8 +162,9 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
     for (uint32_t k = 0; k < c.point_count; ++k) {
       const FrictionPoint& p = g.friction_points[c.first_point + k];
       const Vec3 at = point_of(c, {p.x, p.y, p.z});
-      b.apply(c.upper, at, {-d[0], -d[1], -d[2]});
-      b.apply(c.lower, at, d);
+      const double share = model.knob_balance ? p.share : 1;
+      b.apply(c.upper, at, {-d[0] * share, -d[1] * share, -d[2] * share});
+      b.apply(c.lower, at, {d[0] * share, d[1] * share, d[2] * share});
       b.end_column(ForceKind::Friction, ci);
     }
   }
@@ -195,13 +198,24 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
       p[size_t(sd)] = ps;
       return point_of(c, p);
     };
-    // Normal forces at the corners of the patch push the two parts apart.
-    for (int corner = 0; corner < 4; ++corner) {
-      const Vec3 p =
-          point(corner & 1 ? c.patch.u1 : c.patch.u0, corner & 2 ? c.patch.v1 : c.patch.v0);
-      b.apply(c.upper, p, d);
-      b.apply(c.lower, p, {-d[0], -d[1], -d[2]});
-      b.end_column(ForceKind::Normal, ci);
+    // Normal forces at the corners of the patch push the two parts apart (or, to be measured
+    // against that, at the knobs' contacts).
+    if (model.push_at_knobs && c.point_count > 0) {
+      for (uint32_t k = 0; k < c.point_count; ++k) {
+        const FrictionPoint& p = g.friction_points[c.first_point + k];
+        const Vec3 at = point_of(c, {p.x, p.y, p.z});
+        b.apply(c.upper, at, d);
+        b.apply(c.lower, at, {-d[0], -d[1], -d[2]});
+        b.end_column(ForceKind::Normal, ci);
+      }
+    } else {
+      for (int corner = 0; corner < 4; ++corner) {
+        const Vec3 p =
+            point(corner & 1 ? c.patch.u1 : c.patch.u0, corner & 2 ? c.patch.v1 : c.patch.v0);
+        b.apply(c.upper, p, d);
+        b.apply(c.lower, p, {-d[0], -d[1], -d[2]});
+        b.end_column(ForceKind::Normal, ci);
+      }
     }
     // The support force of the knobs in the plane, where there are knobs or a ground to lean on.
     if (c.support) {

@@ -37,9 +37,22 @@ struct EquilibriumSystem {
   static int body_of_row(int row) { return row / kEquations; }
 };
 
+// The choices of the force model that the physical evidence decides between (docs/physics.md,
+// "Against the evidence"). The defaults are the model both tools use; the others are there to be
+// measured against it (tools/bench, section "physics").
+struct Formulation {
+  // How hard each contact of a knob grips: as the knob's balance lets it (knob_grip.h), or every
+  // contact at T, as in the paper.
+  bool knob_balance = true;
+  // Where two snapped parts push on each other: at the corners of the patch where their faces
+  // meet (the paper), or only at the contact points of the knobs (StableLego, BrickSim).
+  bool push_at_knobs = false;
+};
+
 // Lengths in the equations are in studs (a plate is 0.4 stud): torques need true proportions.
 // Contacts with a floating brick are left out, and so are floating bricks' rows.
 EquilibriumSystem build_equilibrium(const Assembly& assembly, const ContactGraph& graph,
-                                    const Connectivity& connectivity);
+                                    const Connectivity& connectivity,
+                                    const Formulation& formulation = {});
 
 }  // namespace lego::physics

@@ -363,7 +363,7 @@ StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) 
   r.stats.graph_seconds = seconds_since(start);
   if (a.bricks.empty()) return r;
   start = std::chrono::steady_clock::now();
-  EquilibriumSystem sys = build_equilibrium(a, r.graph, r.connectivity);
+  EquilibriumSystem sys = build_equilibrium(a, r.graph, r.connectivity, o.formulation);
   r.stats.build_seconds = seconds_since(start);
   if (sys.rows == 0) {  // nothing stands that is not the ground itself
     r.status = r.connectivity.floating.empty() ? StabilityStatus::Empty : StabilityStatus::Floating;

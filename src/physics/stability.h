@@ -44,6 +44,8 @@ struct StabilityOptions {
   // friction force) while solving; raised and solved again when the solution touches it.
   double support_bound = 1e3;
   double max_seconds = 3600;
+  Formulation formulation =
+      {};  // the force model's choices; the default is the model (force_model.h)
 };
 
 // A pair of bricks whose friction points bind at the optimum, with its share of the duals.

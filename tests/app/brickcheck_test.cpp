@@ -699,7 +699,7 @@ TEST(BrickcheckSharedDetail, TheHeatMapOfANearlyPerfectModelComesOutAtOnce) {
                     "OPENBLAS_NUM_THREADS=1 timeout 60");
   ASSERT_EQ(r.exit_code, 1) << r.err;  // its propeller floats
   json j = json::parse(r.out);
-  EXPECT_NEAR(j["cm_gf"].get<double>(), 71.599, 1e-3);
+  EXPECT_NEAR(j["cm_gf"].get<double>(), 71.584, 1e-3);
   EXPECT_TRUE(j["lp"]["solver_note"].is_null()) << j["lp"]["solver_note"];  // capacity computed
   EXPECT_TRUE(fs::exists(heat));
 }

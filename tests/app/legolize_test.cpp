@@ -232,7 +232,7 @@ TEST(Legolize, TableNeedsTheRefinementAndEndsStable) {
   EXPECT_GT(r["accepted"].get<int>(), 0);
   EXPECT_EQ(r["voxels"], nlohmann::json::array({36, 7, 8}));
   EXPECT_EQ(r["voxels_filled"].get<int>(), 4 * 4 * 5 + 36 * 8 * 2);
-  EXPECT_NEAR(r["cm_gf_initial"].get<double>(), -81.982, 1e-3);
+  EXPECT_NEAR(r["cm_gf_initial"].get<double>(), -119.261, 1e-3);
   // The refinement's path depends on LP values to their last bits only through comparisons with
   // a margin (refine.cpp), so its end is reproducible here; other CPUs may round differently,
   // hence no pin on the final value, only on stability.
@@ -495,8 +495,8 @@ TEST(Legolize, SampleHeadlines) {
     double cm_gf;
   };
   const std::vector<Case> cases{
-      {"globe.ply", {"--height", "16"}, {17, 16, 17}, 2171, 609, 71.300},
-      {"crate.obj", {"--height", "8"}, {10, 8, 10}, 768, 211, 71.560},
+      {"globe.ply", {"--height", "16"}, {17, 16, 17}, 2171, 609, 71.244},
+      {"crate.obj", {"--height", "8"}, {10, 8, 10}, 768, 211, 71.561},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.mesh);
@@ -572,20 +572,20 @@ TEST(Legolize, TheBunnyConvertsAndBrickcheckAgrees) {
   EXPECT_NEAR(brickcheck_cm({"--json", out.string()}), r["cm_gf_final"].get<double>(), 1e-4);
 }
 
-// The table's top is built outwards from its legs, and with --min-cm 58 some of those steps fall
+// The table's top is built outwards from its legs, and with --min-cm 54 some of those steps fall
 // as the layers come: bricks are held back a step until what balances them is there.
 TEST(Legolize, BricksAreHeldBackUntilTheirStepStands) {
-  auto out = scratch("table58.mpd"), report = scratch("table58.json");
+  auto out = scratch("table54.mpd"), report = scratch("table54.json");
   auto run =
       run_tool("legolize", {sample("table.obj").string(), "--scale", "1", "--load-top", "300",
-                            "--min-cm", "58", "-o", out.string(), "--report", report.string()});
+                            "--min-cm", "54", "-o", out.string(), "--report", report.string()});
   ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
   const auto r = read_json(report);
   EXPECT_GT(r["held_back"].get<int>(), 0);
   EXPECT_TRUE(r["steps_stand"].get<bool>());
-  EXPECT_GT(r["min_step_cm_gf"].get<double>(), 58);
+  EXPECT_GT(r["min_step_cm_gf"].get<double>(), 54);
   EXPECT_EQ(
-      run_tool("brickcheck", {"--steps", "--min-cm", "58", "--quiet", out.string()}).exit_code, 0);
+      run_tool("brickcheck", {"--steps", "--min-cm", "54", "--quiet", out.string()}).exit_code, 0);
 }
 
 // Steps that cannot all stand are named, with why.

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "../../tools/bench/shapes.h"
@@ -86,6 +87,35 @@ TEST(Stability, Figure7Bridges) {
   EXPECT_GT(cm[1][8], 0);
 }
 
+// StableLego's stair (../shared/physical-tests): 2 x 4 bricks each two studs further out. Built,
+// 19 stand close to failure and 20 fall. The first joint holds the rest by the 2 x 2 knobs where
+// the second brick overlaps the first, tipping about the first's end: the knobs' walls grip at
+// T/√2 and their tubes at T where two walls and a tube hold a knob, the wall at T and the tubes
+// at T/√2 where one wall and two tubes do (knob_grip.h). With every contact at T it stood at 20.
+TEST(Stability, StableLegosStairFallsAtTwenty) {
+  auto stair = [](int bricks) {
+    Assembly a;
+    for (int k = 0; k < bricks; ++k) add(a, "3001", 2 * k, kBrick * k, 0);
+    return analyze_stability(a);
+  };
+  const double w = 1 / std::sqrt(2.0);
+  // Levers about the end (x = 4) of the corner knob (x = 2.5) and the middle one (x = 3.5) in
+  // each of the two rows.
+  const double corner = w * (1.8 + 1.5) + 1 * (1.5 - 0.3 * w);
+  const double middle = 1 * 0.5 + w * ((0.5 - 0.3 * w) + (0.5 + 0.3 * w));
+  const double levers = 2 * (corner + middle);
+  for (int n : {19, 20}) {
+    const auto r = stair(n);
+    ASSERT_EQ(r.status, StabilityStatus::Solved);
+    // The bricks above the first: n - 1 of 2.2 g, their centre n - 2 studs past its end.
+    const double moment = (n - 1) * 2.2 * (n - 2);
+    EXPECT_NEAR(r.cm_gf(), kT - moment / levers, 1e-3) << n;
+    EXPECT_EQ(top_contact(r).upper, 1) << n;
+  }
+  EXPECT_TRUE(stair(19).stable());
+  EXPECT_FALSE(stair(20).stable());
+}
+
 TEST(Stability, ColumnNeedsNoFriction) {
   Assembly a;
   for (int i = 0; i < 5; ++i) add(a, "3001", 0, kBrick * i, 0);
@@ -164,7 +194,9 @@ TEST(Stability, BrickHeldByOneCornerKnob) {
   add(a, "3001", 0, 2 * kBrick, 0);
   auto base = analyze_stability(a);
   ASSERT_EQ(base.status, StabilityStatus::Solved);
-  EXPECT_NEAR(base.cm_gf(), 70.3, 0.05);
+  // The 2x4 tips about the 1x1's edge, 1 stud from its centre: 2.2 g·stud held by the corner
+  // knob's two walls at T/√2 (levers 0.8 and 0.5 stud) and its tube at T (0.288 stud).
+  EXPECT_NEAR(base.cm_gf(), kT - 2.2 / (1.3 / std::sqrt(2.0) + 0.5 - 0.3 / std::sqrt(2.0)), 1e-3);
   for (LpForm form : {LpForm::Scaled, LpForm::MaxMin}) {
     auto table = analyze_stability(a, {.ground = GroundMode::Table, .form = form});
     EXPECT_EQ(table.status, StabilityStatus::NoEquilibrium) << to_string(table.status);

@@ -23,6 +23,7 @@
 #include "layout/reconfigure.h"
 #include "layout/refine.h"
 #include "mesh/mesh.h"
+#include "physics_bench.h"
 #include "report/audit.h"
 #include "shapes.h"
 #include "voxel/palette.h"
@@ -686,6 +687,7 @@ int main(int argc, char** argv) {
       only.find("spider-h20") != std::string::npos || only == "duplicated-parts" ||
       only == "cantilever")
     hard_section("/usr/share/assimp/models/OBJ/spider.obj", only, quick);
+  if (wanted("physics")) bench::physics_section(source, source / ".." / "shared");
   if (wanted("corpus")) corpus_section(source / ".." / "shared", 60);
   // Heat maps double the corpus's time: only in a whole run or when asked for by name.
   if (only.empty() || only == "corpus-heat") corpus_heat_section(source / ".." / "shared", 60);
