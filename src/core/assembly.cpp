@@ -27,6 +27,7 @@ CarriedPart carried_part(const BrickType& type, std::string reason, int color,
   c.outline = type.shape.outline;
   c.studs = type.shape.studs;
   c.pose = pose;
+  c.pivots = type.pivots;
   return c;
 }
 

@@ -32,6 +32,9 @@ struct CarriedPart {
   // studs touches the bracket with them, its body a stud's length away).
   std::vector<Connector> studs;
   Pose pose;  // any rotation
+  // A hinge or turntable half (BrickType::pivots): it holds what it touches side by side, its
+  // fingers or ring engaged in the other half's.
+  bool pivots = false;
 };
 // A part of `type` carried for `reason`: its body, outline, studs and mass are the type's.
 CarriedPart carried_part(const BrickType& type, std::string reason, int color,

@@ -180,6 +180,17 @@ Rect in_plane(const Box& b, int axis) {
   return {b.min[f], b.min[s], b.max[f], b.max[s]};
 }
 
+// Whether two parts meet only side by side, their plans touching along a vertical line or face:
+// nothing presses such faces together, so they hold none of each other's weight and tie nothing
+// (docs/physics.md, "Faces that only touch"). Parts that overlap in plan rest on, hang from or
+// are engaged in each other.
+bool side_by_side(const OrientedBox& a, const OrientedBox& b) {
+  const Box x = a.bounds(), y = b.bounds();
+  for (int ax : {0, 2})
+    if (std::min(x.max[ax], y.max[ax]) - std::max(x.min[ax], y.min[ax]) < kMinFace) return true;
+  return false;
+}
+
 // Friction points of one engaged stud: where it touches `upper`'s receptacle at `r`, by the
 // receptacles around it (PHYSICS.md "Stud connection").
 void add_friction_points(const ReceptacleIndex& all, int upper, const Vec3& r, int facing,
@@ -567,6 +578,10 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
     std::vector<std::vector<int>> touched(static_cast<size_t>(carried));
     for (int c = 0; c < carried; ++c)
       for (int k = 0; k < int(reach[size_t(c)].size()); ++k) {
+        // Hinge and turntable halves hold side by side: their fingers or rings engage.
+        auto engages_sideways = [&](int brick) {
+          return a.carried[size_t(c)].pivots || a.bricks[size_t(brick)].type->pivots;
+        };
         const OrientedBox& o = reach[size_t(c)][size_t(k)];
         const Box bounds = o.bounds();
         carried_index.near(bounds, kCarriedReach, [&](int other) {
@@ -579,13 +594,17 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
           const int brick = box_owner[size_t(id)].first;
           auto& t = touched[size_t(c)];
           if (std::find(t.begin(), t.end(), brick) != t.end()) return;
-          if (touch(o, model_box(id), kCarriedReach)) t.push_back(brick);
+          const OrientedBox m = model_box(id);
+          if (touch(o, m, kCarriedReach) && (engages_sideways(brick) || !side_by_side(o, m)))
+            t.push_back(brick);
         });
         stud_index.near(bounds, kCarriedReach, [&](int id) {
           const int brick = stud_owner[size_t(id)];
           auto& t = touched[size_t(c)];
           if (std::find(t.begin(), t.end(), brick) != t.end()) return;
-          if (touch(o, stud_boxes[size_t(id)], kCarriedReach)) t.push_back(brick);
+          const OrientedBox& k = stud_boxes[size_t(id)];
+          if (touch(o, k, kCarriedReach) && (engages_sideways(brick) || !side_by_side(o, k)))
+            t.push_back(brick);
         });
       }
     std::map<int, int> group_of_root;

@@ -699,7 +699,7 @@ TEST(BrickcheckSharedDetail, TheHeatMapOfANearlyPerfectModelComesOutAtOnce) {
                     "OPENBLAS_NUM_THREADS=1 timeout 60");
   ASSERT_EQ(r.exit_code, 1) << r.err;  // its propeller floats
   json j = json::parse(r.out);
-  EXPECT_NEAR(j["cm_gf"].get<double>(), 71.584, 1e-3);
+  EXPECT_NEAR(j["cm_gf"].get<double>(), 70.714, 1e-3);
   EXPECT_TRUE(j["lp"]["solver_note"].is_null()) << j["lp"]["solver_note"];  // capacity computed
   EXPECT_TRUE(fs::exists(heat));
 }
@@ -999,9 +999,13 @@ TEST(BrickcheckCorpus, APartOneLduOffItsPlatesIsAnalysed) {
   EXPECT_GE(beside, 10);
   EXPECT_GE(tower["bricks"].get<int>(), 165);
   // The bait shop's roof plates, drawn 2 LDU above the walls, sit on their studs; the triplex's
-  // beds, drawn 2 LDU into the floor, stand on it.
-  json shop = check_datsville("building_020_baitshop.mpd", 0);
+  // beds, drawn 2 LDU into the floor, stand on it. (The bait shop's lamp, a cone on a round
+  // plate tilted 5 degrees beside a wall, touches the wall only side by side: it floats.)
+  json shop = check_datsville("building_020_baitshop.mpd", 1);
   EXPECT_GE(shop["bricks"].get<int>(), 275) << shop["carried"].size();
+  ASSERT_EQ(shop["floating_carried"].size(), 2u) << shop["floating_carried"];
+  EXPECT_EQ(shop["floating_carried"][0]["line"], 231);
+  EXPECT_EQ(shop["floating_carried"][1]["line"], 232);
   json triplex = check_datsville("building_012_triplex.mpd", 1);
   EXPECT_GE(triplex["bricks"].get<int>(), 766) << triplex["carried"].size();
   for (const auto& c : triplex["carried"]) EXPECT_NE(c["line"], 22) << c;  // a bed's frame
@@ -1010,6 +1014,34 @@ TEST(BrickcheckCorpus, APartOneLduOffItsPlatesIsAnalysed) {
 // Across, a part one LDU beside the lattice whose studs meet nothing as drawn is taken as on the
 // lattice where its studs then meet what stands, with a warning naming its line (an editor's
 // nudge, as upright); where they would meet nothing either, it is left where it is, carried.
+// A flat roof between two walls, its middle 16 LDU above anything, touching the walls only with
+// its sides: nothing presses those faces together, so it holds nothing and falls (issue 35). Laid
+// on the walls' tops, their studs hold it.
+TEST(Brickcheck, ARoofTouchingWallsOnlyWithItsSidesFalls) {
+  const std::string walls =
+      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
+      "1 4 0 -48 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
+      "1 4 0 -72 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
+      "1 4 60 -24 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
+      "1 4 60 -48 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
+      "1 4 60 -72 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
+      "1 4 30 -8 0 1 0 0 0 1 0 0 0 1 3023.dat\n";  // a floor plate between them
+  auto between = scratch("roof-between.ldr");
+  std::ofstream(between) << "0 roof between\n"
+                         << walls << "1 1 30 -48 0 1 0 0 0 1 0 0 0 1 3023.dat\n";
+  json fallen = check_json({between.string()}, 1);
+  EXPECT_FALSE(fallen["stable"]);
+  ASSERT_EQ(fallen["floating_carried"].size(), 1u) << fallen;
+  EXPECT_EQ(fallen["floating_carried"][0]["line"], 9);
+  EXPECT_TRUE(fallen["joints"].empty()) << fallen["joints"];
+  auto on_top = scratch("roof-on-top.ldr");
+  std::ofstream(on_top) << "0 roof on top\n"
+                        << walls << "1 1 30 -80 0 1 0 0 0 1 0 0 0 1 3710.dat\n";
+  json held = check_json({on_top.string()}, 0);
+  EXPECT_TRUE(held["stable"]);
+  EXPECT_TRUE(held["carried"].empty()) << held["carried"];
+}
+
 TEST(Brickcheck, APartOneLduBesideTheLatticeIsTakenAsOnIt) {
   auto path = scratch("beside.ldr");
   std::ofstream(path) << "0 beside\n"
@@ -1132,7 +1164,7 @@ TEST(BrickcheckCorpus, NoEquilibriumNamesWhatTips) {
 // Bram L's cottage a distribution far from the least-norm one (111 parts lime, now green).
 TEST(BrickcheckCorpus, HeatMapsOfRealBuildings) {
   SKIP_WITHOUT_SHARED();
-  for (const char* model : {"building_011_bramshome.ldr", "building_004_bramlcottage.ldr"}) {
+  for (const char* model : {"building_060_icecreamparlor.mpd", "building_004_bramlcottage.ldr"}) {
     const fs::path heat = scratch(std::string("heat-") + model);
     fs::remove(heat);
     json r = check_datsville(model, 0, {"--heatmap", heat.string()});
