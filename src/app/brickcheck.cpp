@@ -23,17 +23,27 @@ using namespace lego;
 
 namespace {
 
-enum Exit { kStable = 0, kUnstable = 1, kBadInput = 2, kUnanalysed = 3, kUndecided = 4 };
+enum Exit {
+  kStable = 0,
+  kUnstable = 1,
+  kBadInput = 2,
+  kNotJudged = 3,
+  kUndecided = 4,
+  kByAssumption = 5
+};
 
 constexpr const char* kExitCodes = R"(Exit codes:
   0  every file is stable and connected
   1  a file is unstable, has floating parts, has no equilibrium, or a build step falls (--steps)
   2  usage error, or a file cannot be read (missing, a directory, not text, no parts, a malformed
      type-1 line)
-  3  a file has nothing that can be analysed as structure (every part carried or unknown); with
-     --strict also a file whose verdict assumes something (carried parts, parts left out)
+  3  a file cannot be judged: nothing in it can be analysed as structure, or most of its mass is
+     carried (its connections assumed)
   4  the solver could not decide (iteration limit or numerical trouble)
-When files differ, the highest of 2, 1, 4, 3 in that order wins.)";
+  5  with --strict: a file is stable only by an assumption that can change the verdict (a part
+     held by a connection that is not modelled, a part left out, or assumed rigid joints the
+     model does not stand without)
+When files differ, the highest of 2, 1, 4, 5, 3 in that order wins.)";
 
 // Whether `dir` looks like an LDraw library: it has a parts/ or p/ folder (any case).
 bool is_ldraw_library(const fs::path& dir) {
@@ -128,7 +138,9 @@ int main(int argc, char** argv) {
                  "picture (LeoCAD), its parts and its C_M; implies --steps");
   app.add_flag("--quiet", quiet, "print only the verdict line of each file");
   app.add_flag("--strict", strict,
-               "exit 3 when the verdict assumes something: carried parts, parts left out");
+               "exit 5 when a stable verdict rests on an assumption that can change it (a part "
+               "held by a connection not modelled, a part left out, assumed rigid joints the "
+               "model does not stand without), naming each");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -151,6 +163,7 @@ int main(int argc, char** argv) {
   options.stability.ground =
       ground == "table" ? physics::GroundMode::Table : physics::GroundMode::Baseplate;
   options.min_cm_gf = min_cm;
+  options.strict = strict;
   options.stability.max_seconds = max_seconds;
   options.steps = steps || !instructions.empty();
   if (!instructions.empty()) {
@@ -202,11 +215,12 @@ int main(int argc, char** argv) {
 
   int worst = kStable;
   auto rank = [](int code) {
-    return code == kBadInput     ? 4
-           : code == kUnstable   ? 3
-           : code == kUndecided  ? 2
-           : code == kUnanalysed ? 1
-                                 : 0;
+    return code == kBadInput       ? 5
+           : code == kUnstable     ? 4
+           : code == kUndecided    ? 3
+           : code == kByAssumption ? 2
+           : code == kNotJudged    ? 1
+                                   : 0;
   };
   nlohmann::json all = nlohmann::json::array();
   parts::PartLibrary library(options.read.library_dirs, BrickCatalog::standard());
@@ -234,10 +248,13 @@ int main(int argc, char** argv) {
         code = kBadInput;
         break;
       case report::Verdict::NothingToAnalyse:
-        code = kUnanalysed;
+      case report::Verdict::NotJudged:
+        code = kNotJudged;
+        break;
+      case report::Verdict::StableByAssumption:
+        code = kByAssumption;
         break;
     }
-    if (strict && code == kStable && audit.assumes()) code = kUnanalysed;
     if (rank(code) > rank(worst)) worst = code;
 
     if (json)

@@ -347,8 +347,10 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     if (auto [at, fresh] = first_at.try_emplace(place_key(p), i); !fresh) {
       const ldraw::PlacedPart& first = model.parts[at->second];
       out.skipped.push_back(
-          {i, fmt::format("a copy of {}:{}, the same part in the same place",
-                          std::filesystem::path(first.file).filename().string(), first.line)});
+          {i,
+           fmt::format("a copy of {}:{}, the same part in the same place",
+                       std::filesystem::path(first.file).filename().string(), first.line),
+           true});
       continue;
     }
     const ldraw::Transform placed = in_frame(p.transform);

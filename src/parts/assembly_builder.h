@@ -16,6 +16,8 @@ namespace lego::parts {
 struct PartNote {
   size_t part = 0;  // index into Model::parts
   std::string reason;
+  // A copy of another part in the same place: nothing of it is unknown, it is not there.
+  bool copy = false;
 };
 
 struct AssemblyConversion {

@@ -246,7 +246,7 @@ Vec3 body_centre(const Brick& brick) {
   return to_model(brick, sum);
 }
 
-ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
+ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assumed_joints) {
   ContactGraph g;
   g.ground = ground;
   const int n = int(a.bricks.size());
@@ -576,11 +576,21 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
       }
     stud_index.finish();
     std::vector<std::vector<int>> touched(static_cast<size_t>(carried));
+    // Per carried part: the analysed parts that reach below its bottom where they touch it, and
+    // where (in plan): what can bear its weight.
+    std::vector<std::vector<std::pair<int, Rect>>> bearing(static_cast<size_t>(carried));
     for (int c = 0; c < carried; ++c)
       for (int k = 0; k < int(reach[size_t(c)].size()); ++k) {
         // Hinge and turntable halves hold side by side: their fingers or rings engage.
         auto engages_sideways = [&](int brick) {
           return a.carried[size_t(c)].pivots || a.bricks[size_t(brick)].type->pivots;
+        };
+        auto bears = [&](int brick, const OrientedBox& o, const OrientedBox& m) {
+          const Box x = o.bounds(), y = m.bounds();
+          if (y.min[1] > carried_bottom[size_t(c)] + kCarriedReach) return;
+          const Rect r{std::max(x.min[0], y.min[0]), std::max(x.min[2], y.min[2]),
+                       std::min(x.max[0], y.max[0]), std::min(x.max[2], y.max[2])};
+          if (r.u1 >= r.u0 && r.v1 >= r.v0) bearing[size_t(c)].emplace_back(brick, r);
         };
         const OrientedBox& o = reach[size_t(c)][size_t(k)];
         const Box bounds = o.bounds();
@@ -595,16 +605,20 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
           auto& t = touched[size_t(c)];
           if (std::find(t.begin(), t.end(), brick) != t.end()) return;
           const OrientedBox m = model_box(id);
-          if (touch(o, m, kCarriedReach) && (engages_sideways(brick) || !side_by_side(o, m)))
+          if (touch(o, m, kCarriedReach) && (engages_sideways(brick) || !side_by_side(o, m))) {
             t.push_back(brick);
+            bears(brick, o, m);
+          }
         });
         stud_index.near(bounds, kCarriedReach, [&](int id) {
           const int brick = stud_owner[size_t(id)];
           auto& t = touched[size_t(c)];
           if (std::find(t.begin(), t.end(), brick) != t.end()) return;
           const OrientedBox& k = stud_boxes[size_t(id)];
-          if (touch(o, k, kCarriedReach) && (engages_sideways(brick) || !side_by_side(o, k)))
+          if (touch(o, k, kCarriedReach) && (engages_sideways(brick) || !side_by_side(o, k))) {
             t.push_back(brick);
+            bears(brick, o, k);
+          }
         });
       }
     std::map<int, int> group_of_root;
@@ -639,15 +653,37 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
     for (auto& group : g.carried_groups) {
       std::sort(group.joins.begin(), group.joins.end());
       std::sort(group.rests_on_fixed.begin(), group.rests_on_fixed.end());
+      // It rests where its centre of mass is over what bears it: the ground, a fixed part, or
+      // within the span of the analysed parts under it. The one under its centre bears its
+      // weight; else the one that bears it over the widest area; else the first it joins.
+      Rect span;
+      bool any = false;
+      double widest = -1;
+      const double cx = group.centre[0], cz = group.centre[2];
+      auto under_centre = [&](const Rect& r) {
+        return cx >= r.u0 - kMinFace / 2 && cx <= r.u1 + kMinFace / 2 &&
+               cz >= r.v0 - kMinFace / 2 && cz <= r.v1 + kMinFace / 2;
+      };
+      for (int c : group.carried)
+        for (const auto& [brick, r] : bearing[size_t(c)]) {
+          if (g.fixed[size_t(brick)]) continue;
+          grow(span, any, r);
+          const double area = r.area() + (under_centre(r) ? 1e12 : 0);
+          if (area > widest) widest = area, group.bearer = brick;
+        }
+      // Tied to one another by the group, its parts bear it together: the first, where the tree
+      // of its joints is rooted, takes its weight.
+      if (!group.joins.empty() && (group.bearer < 0 || (group.assumed_joint() && assumed_joints)))
+        group.bearer = group.joins.front();
+      group.rests = group.on_ground || !group.rests_on_fixed.empty() || (any && under_centre(span));
       if (group.joins.empty() || (!group.on_ground && group.rests_on_fixed.empty())) continue;
       // Where the group stands on the ground or a fixed part, it holds the body it joins like
       // the ground does: it pushes and holds sideways.
       double bottom = 1e300;
       for (int c : group.carried) bottom = std::min(bottom, carried_bottom[size_t(c)]);
       const double reach = group.on_ground ? kSettle : kCarriedReach;
-      Meeting& m = meeting(group.on_ground ? kGround : group.rests_on_fixed.front(),
-                           group.joins.front(), kPlusY, group.on_ground ? ground_y : bottom,
-                           /*in_model=*/true);
+      Meeting& m = meeting(group.on_ground ? kGround : group.rests_on_fixed.front(), group.bearer,
+                           kPlusY, group.on_ground ? ground_y : bottom, /*in_model=*/true);
       // It stands on its lowest points: a tyre on a strip across its tread.
       for (int c : group.carried)
         for (const Vec3& p : carried_outline[size_t(c)])
@@ -751,7 +787,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   std::vector<Vec3> centre(static_cast<size_t>(n));
   for (const CarriedGroup& group : g.carried_groups) {
     const auto& joins = group.joins;
-    if (joins.size() < 2) continue;
+    if (joins.size() < 2 || !assumed_joints) continue;
     for (int b : joins) centre[size_t(b)] = body_centre(a.bricks[size_t(b)]);
     auto distance = [&](int x, int y) {
       double d = 0;
@@ -787,7 +823,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground) {
   // Where parts of two lattices touch (a turned stand on its base), nothing tells how they hold:
   // they are joined as a carried part joins what it touches (README "What it analyses", turned
   // lattices).
-  if (any_turned) {
+  if (any_turned && assumed_joints) {
     std::vector<std::pair<int, int>> pairs;
     for (int id = 0; id < int(box_owner.size()); ++id) {
       const int i = box_owner[size_t(id)].first;

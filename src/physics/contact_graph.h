@@ -64,6 +64,13 @@ struct CarriedGroup {
   bool on_ground = false;           // it reaches the ground plane
   double mass_g = 0;
   Vec3 centre{0, 0, 0};  // of its mass, lattice frame LDU
+  // The analysed part that bears its weight: the first it joins where it ties them together
+  // (an assumed joint), else the one under its centre of mass, else the one that bears it over
+  // the widest area, else the first it joins; -1 when it joins none.
+  int bearer = -1;
+  // Its weight rests on what is under it (the ground, a fixed part, or analysed parts whose span
+  // its centre of mass is over): it needs no connection to stay where it is.
+  bool rests = false;
   bool assumed_joint() const { return joins.size() >= 2; }
 };
 
@@ -80,7 +87,10 @@ struct ContactGraph {
   // lattices): indices into `contacts`.
   std::vector<int> lattice_joints;
 
-  static ContactGraph build(const Assembly& assembly, GroundMode ground);
+  // Without `assumed_joints`, carried parts and parts of two lattices tie nothing together:
+  // what a verdict is without those assumptions (brickcheck --strict).
+  static ContactGraph build(const Assembly& assembly, GroundMode ground,
+                            bool assumed_joints = true);
 };
 
 // The knob rim radius R (LDU).

@@ -235,8 +235,8 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
     if (const int body = s.body_of[size_t(i)]; body >= 0)
       b.load(body, brick_centre[size_t(i)], {0, -a.bricks[size_t(i)].mass_g() * kGravity, 0});
   for (const CarriedGroup& group : g.carried_groups) {
-    if (group.joins.empty()) continue;
-    const int body = s.body_of[size_t(group.joins.front())];
+    if (group.bearer < 0) continue;
+    const int body = s.body_of[size_t(group.bearer)];
     if (body >= 0) b.load(body, studs(group.centre), {0, -group.mass_g * kGravity, 0});
   }
   for (const ExternalLoad& load : a.loads) {

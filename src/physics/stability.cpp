@@ -358,7 +358,7 @@ bool decided(StabilityStatus status) {
 StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) {
   StabilityResult r;
   auto start = std::chrono::steady_clock::now();
-  r.graph = ContactGraph::build(a, o.ground);
+  r.graph = ContactGraph::build(a, o.ground, o.assumed_joints);
   r.connectivity = analyze_connectivity(int(a.bricks.size()), r.graph);
   r.stats.graph_seconds = seconds_since(start);
   if (a.bricks.empty()) return r;

@@ -44,8 +44,11 @@ struct StabilityOptions {
   // friction force) while solving; raised and solved again when the solution touches it.
   double support_bound = 1e3;
   double max_seconds = 3600;
-  Formulation formulation =
-      {};  // the force model's choices; the default is the model (force_model.h)
+  // The force model's choices; the default is the model (force_model.h).
+  Formulation formulation = {};
+  // Carried parts and parts of two lattices that touch tie what they touch rigidly; false: they
+  // tie nothing (ContactGraph::build), as brickcheck --strict checks a verdict without them.
+  bool assumed_joints = true;
 };
 
 // A pair of bricks whose friction points bind at the optimum, with its share of the duals.

@@ -381,6 +381,44 @@ void lower_ground_under_unknown_parts(Audit& audit) {
   if (ground < lowest) a.ground_height = ground;
 }
 
+// What the verdict rests on (report/assumptions.h). Most of the mass carried, a stable verdict
+// says little: the model is not judged. With --strict a stable verdict must not rest on what can
+// change it: held and unknown parts, and the assumed joints where the model analysed without
+// them is not stable.
+void judge_assumptions(Audit& audit, const AuditOptions& options) {
+  audit.assumptions = assumptions_of(audit);
+  Assumptions& as = audit.assumptions;
+  if (audit.verdict != Verdict::Stable) return;
+  if (as.carried_share() > kMostOfTheMass) {
+    audit.verdict = Verdict::NotJudged;
+    return;
+  }
+  if (!options.strict) return;
+  if (as.rigid_joints > 0) {
+    physics::StabilityOptions without = options.stability;
+    without.assumed_joints = false;
+    without.brick_capacity = false;
+    const physics::StabilityResult r =
+        physics::analyze_stability(audit.conversion.assembly, without);
+    as.joints_checked = true;
+    const size_t floating = r.connectivity.floating.size() + r.connectivity.floating_carried.size();
+    if (verdict_of(r, options.min_cm_gf) == Verdict::Stable) {
+      as.without_joints = fmt::format("stable without them: C_M = {:.3f} gf", r.cm_gf());
+    } else {
+      as.without_joints = floating ? fmt::format("without them {} part{} float{}", floating,
+                                                 floating == 1 ? "" : "s", floating == 1 ? "s" : "")
+                          : r.status == physics::StabilityStatus::Solved
+                              ? fmt::format("without them C_M = {:.3f} gf", r.cm_gf())
+                              : fmt::format("without them: {}", physics::to_string(r.status));
+      for (Assumption& j : joint_assumptions(audit)) {
+        j.text += " (" + as.without_joints + ")";
+        as.deciding.push_back(std::move(j));
+      }
+    }
+  }
+  if (!as.deciding.empty()) audit.verdict = Verdict::StableByAssumption;
+}
+
 // The model after `step`: its bricks and carried parts up to then, on the finished model's ground.
 StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options) {
   const Assembly& whole = audit.conversion.assembly;
@@ -527,6 +565,7 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
   audit.parts_seconds = seconds_since(start);
   if (audit.conversion.assembly.bricks.empty()) {
     audit.verdict = Verdict::NothingToAnalyse;
+    audit.assumptions = assumptions_of(audit);
     return audit;
   }
   audit.load_notes = apply_loads(audit, options.loads);
@@ -581,6 +620,7 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
     else if (audit.unchecked_from_step && audit.verdict == Verdict::Stable)
       audit.verdict = Verdict::Undecided;
   }
+  judge_assumptions(audit, options);
   return audit;
 }
 

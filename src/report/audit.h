@@ -11,6 +11,7 @@
 #include "parts/assembly_builder.h"
 #include "parts/part_library.h"
 #include "physics/stability.h"
+#include "report/assumptions.h"
 
 namespace lego::report {
 
@@ -46,6 +47,9 @@ struct AuditOptions {
   double min_cm_gf = 0;                // the stability threshold
   bool steps = false;                  // check the assembly after every build step
   bool brick_capacity = false;         // for heat maps
+  // A stable verdict that rests on an assumption that can change it is not enough
+  // (Verdict::StableByAssumption); the joints are checked with a second analysis without them.
+  bool strict = false;
 };
 
 struct StepAudit {
@@ -62,7 +66,11 @@ enum class Verdict {
   Unstable,          // C_M at or below the threshold, floating parts, or no equilibrium
   Undecided,         // the solver gave up (iteration limit, numerical trouble)
   NothingToAnalyse,  // parts, but none analysed as structure (all carried or unknown)
-  Unreadable,        // the file could not be read or is not an analysable LDraw model
+  NotJudged,         // stable as analysed, but most of the mass is carried (kMostOfTheMass)
+  // With AuditOptions::strict: stable as analysed, but resting on an assumption that can change
+  // the verdict (Assumptions::deciding).
+  StableByAssumption,
+  Unreadable,  // the file could not be read or is not an analysable LDraw model
 };
 
 struct Audit {
@@ -76,17 +84,14 @@ struct Audit {
   std::optional<int> unchecked_from_step;
   std::vector<std::string> load_notes;  // where each load went
   Verdict verdict = Verdict::Unreadable;
-  std::string fatal;  // why the file is unreadable
+  Assumptions assumptions;  // what the verdict rests on
+  std::string fatal;        // why the file is unreadable
   double parse_seconds = 0, parts_seconds = 0;
   // 2 when a first analysis named parts resting where they cannot stay and they were carried:
   // the stats' times are then those of both.
   int analyses = 0;
 
   bool stable() const { return verdict == Verdict::Stable; }
-  // Whether the verdict rests on assumptions: carried parts, or parts left out.
-  bool assumes() const {
-    return !conversion.assembly.carried.empty() || !conversion.skipped.empty();
-  }
 };
 
 // `library` caches part knowledge across the files of a run.

@@ -41,11 +41,13 @@ json render_json(const Audit& a, const AuditOptions& options) {
   const bool solved = r.status == physics::StabilityStatus::Solved;
   json j;
   j["file"] = a.file;
-  j["verdict"] = a.verdict == Verdict::Stable             ? "stable"
-                 : a.verdict == Verdict::Unstable         ? "unstable"
-                 : a.verdict == Verdict::Undecided        ? "undecided"
-                 : a.verdict == Verdict::NothingToAnalyse ? "nothing-to-analyse"
-                                                          : "unreadable";
+  j["verdict"] = a.verdict == Verdict::Stable               ? "stable"
+                 : a.verdict == Verdict::Unstable           ? "unstable"
+                 : a.verdict == Verdict::Undecided          ? "undecided"
+                 : a.verdict == Verdict::NothingToAnalyse   ? "nothing-to-analyse"
+                 : a.verdict == Verdict::NotJudged          ? "not-judged"
+                 : a.verdict == Verdict::StableByAssumption ? "stable-by-assumption"
+                                                            : "unreadable";
   j["stable"] = a.stable();
   if (a.verdict == Verdict::Unreadable) {
     j["error"] = a.fatal;
@@ -121,6 +123,25 @@ json render_json(const Audit& a, const AuditOptions& options) {
         {{"through", json::array()},
          {"joins", json::array({brick_json(a, c.lower), brick_json(a, c.upper)})}});
   }
+  const Assumptions& as = a.assumptions;
+  json deciding = json::array();
+  for (const Assumption& d : as.deciding)
+    deciding.push_back({{"kind", d.kind == Assumption::Kind::Joint  ? "joint"
+                                 : d.kind == Assumption::Kind::Held ? "held"
+                                                                    : "unknown"},
+                        {"text", d.text}});
+  j["assumptions"] = {{"analysed", as.analysed},
+                      {"carried", as.carried},
+                      {"left_out", as.left_out},
+                      {"analysed_mass_g", as.analysed_mass_g},
+                      {"carried_mass_g", as.carried_mass_g},
+                      {"carried_mass_share", as.carried_share()},
+                      {"rigid_joints", as.rigid_joints},
+                      {"joints_checked", as.joints_checked},
+                      {"without_joints", as.joints_checked ? json(as.without_joints) : json()},
+                      {"deciding", deciding}};
+  if (options.strict)
+    j["strict"] = {{"passes", a.verdict == Verdict::Stable}, {"reasons", deciding}};
   j["status"] = physics::to_string(r.status);
   j["unbalanced"] = json::array();
   for (int b : r.unbalanced) j["unbalanced"].push_back(brick_json(a, b));

@@ -17,6 +17,10 @@ const char* verdict_word(const Audit& a) {
       return "UNDECIDED";
     case Verdict::NothingToAnalyse:
       return "NOTHING TO ANALYSE";
+    case Verdict::NotJudged:
+      return "NOT JUDGED";
+    case Verdict::StableByAssumption:
+      return "STABLE ONLY BY ASSUMPTION";
     case Verdict::Unreadable:
       return "UNREADABLE";
   }
@@ -39,6 +43,11 @@ std::string verdict_reason(const Audit& a) {
       break;
   }
   std::string why;
+  if (a.verdict == Verdict::NotJudged)
+    return fmt::format(
+        "{} of {} parts carried, {:.0f}% of the mass: what is analysed says too little (C_M of "
+        "it {:.3f} gf)",
+        a.assumptions.carried, a.assumptions.parts, 100 * a.assumptions.carried_share(), r.cm_gf());
   switch (r.status) {
     case StabilityStatus::Floating:
       why = "nothing stands on the ground";
@@ -56,12 +65,18 @@ std::string verdict_reason(const Audit& a) {
       why = fmt::format("the solver gave up: {}", r.message);
       break;
   }
+  if (const std::string assumed = a.assumptions.summary(); !assumed.empty())
+    why += ", assuming " + assumed;
   const size_t floating = r.connectivity.floating.size() + r.connectivity.floating_carried.size();
   if (floating) why += fmt::format("; {} floating", plural(floating, "part"));
   if (a.first_failing_step) why += fmt::format("; step {} does not stand", *a.first_failing_step);
   if (a.unchecked_from_step)
     why +=
         fmt::format("; steps from {} on not checked within --max-seconds", *a.unchecked_from_step);
+  if (a.verdict == Verdict::StableByAssumption)
+    why += fmt::format(" (--strict: {} can change the verdict; the first: {})",
+                       plural(a.assumptions.deciding.size(), "assumption"),
+                       a.assumptions.deciding.front().text);
   return why;
 }
 
@@ -71,12 +86,18 @@ std::string render_text(const Audit& a, bool quiet) {
   std::string out;
   auto line = [&](const std::string& s) { out += s + "\n"; };
   const auto& assembly = a.conversion.assembly;
-  std::string scope;
-  if (a.verdict != Verdict::Unreadable && a.assumes())
-    scope = fmt::format(" (assuming {} carried, {} left out)", assembly.carried.size(),
-                        a.conversion.skipped.size());
-  line(fmt::format("{}: {}: {}{}", a.file, verdict_word(a), verdict_reason(a), scope));
+  line(fmt::format("{}: {}: {}", a.file, verdict_word(a), verdict_reason(a)));
   if (quiet || a.verdict == Verdict::Unreadable) return out;
+  if (!a.assumptions.deciding.empty() || a.assumptions.joints_checked) {
+    line(fmt::format("  assumptions that can change the verdict ({}):",
+                     a.assumptions.deciding.size()));
+    const auto& deciding = a.assumptions.deciding;
+    for (size_t i = 0; i < deciding.size() && i < 20; ++i) line("    " + deciding[i].text);
+    if (deciding.size() > 20) line(fmt::format("    and {} more", deciding.size() - 20));
+    if (a.assumptions.joints_checked && a.assumptions.deciding.empty())
+      line(fmt::format("    none: the {} rigid joints are not needed ({})",
+                       a.assumptions.rigid_joints, a.assumptions.without_joints));
+  }
 
   for (const auto& d : a.model.diagnostics) line("  " + d.text());
   for (const auto& d : a.conversion.diagnostics) line("  " + d.text());

@@ -170,9 +170,22 @@ TEST(BrickcheckReal, AHingeJoiningTwoWalls) {
   EXPECT_NE(text.out.find("assumed rigid joint through hinge.ldr:5 3938"), std::string::npos)
       << text.out;
   EXPECT_NE(text.out.find("hinge.ldr:5 3938 White at (0, -48, 0): a hinge"), std::string::npos);
-  EXPECT_EQ(run_tool("brickcheck", {"--strict", "--ldraw-dir", library(), path.string()}).exit_code,
-            3)
-      << "--strict fails a verdict that assumes";
+  // The wall above stands only on the hinge, an assumed rigid joint: --strict fails and says so.
+  json strict = check(path, 5, {"--strict"});
+  EXPECT_EQ(strict["verdict"], "stable-by-assumption");
+  EXPECT_FALSE(strict["stable"]);
+  EXPECT_FALSE(strict["strict"]["passes"]);
+  ASSERT_EQ(strict["strict"]["reasons"].size(), 1u) << strict["strict"];
+  EXPECT_EQ(strict["strict"]["reasons"][0]["kind"], "joint");
+  const std::string reason = strict["strict"]["reasons"][0]["text"];
+  EXPECT_NE(reason.find("hinge.ldr:5 3938"), std::string::npos) << reason;
+  EXPECT_NE(reason.find("without them 1 part floats"), std::string::npos) << reason;
+  auto strict_text = run_tool("brickcheck", {"--strict", "--ldraw-dir", library(), path.string()});
+  EXPECT_NE(strict_text.out.find("STABLE ONLY BY ASSUMPTION"), std::string::npos)
+      << strict_text.out;
+  EXPECT_NE(strict_text.out.find("hinge.ldr:5 3938 White at (0, -48, 0) ties 2 parts together"),
+            std::string::npos)
+      << strict_text.out;
 }
 
 // An arm on a turntable: the top half (it has cells, but they take the arm's plate, not the

@@ -629,9 +629,11 @@ TEST(Brickcheck, APartScaledAMillionfoldIsCarriedAtOnce) {
       out << "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
           << "1 14 0 -24 0 " << matrix << " 3008.dat\n";
     }
-    json j = check_json({path.string()}, 0);
+    // The carried 1 x 8 is most of the model's mass: what is analysed says too little.
+    json j = check_json({path.string()}, 3);
     ASSERT_EQ(j["carried"].size(), 1u) << matrix;
     EXPECT_EQ(j["carried"][0]["reason"], "its matrix is scaled or sheared");
+    EXPECT_EQ(j["verdict"], "not-judged");
     EXPECT_EQ(j["cm_gf"], 71.658);
   }
 }
@@ -1014,34 +1016,6 @@ TEST(BrickcheckCorpus, APartOneLduOffItsPlatesIsAnalysed) {
 // Across, a part one LDU beside the lattice whose studs meet nothing as drawn is taken as on the
 // lattice where its studs then meet what stands, with a warning naming its line (an editor's
 // nudge, as upright); where they would meet nothing either, it is left where it is, carried.
-// A flat roof between two walls, its middle 16 LDU above anything, touching the walls only with
-// its sides: nothing presses those faces together, so it holds nothing and falls (issue 35). Laid
-// on the walls' tops, their studs hold it.
-TEST(Brickcheck, ARoofTouchingWallsOnlyWithItsSidesFalls) {
-  const std::string walls =
-      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
-      "1 4 0 -48 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
-      "1 4 0 -72 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
-      "1 4 60 -24 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
-      "1 4 60 -48 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
-      "1 4 60 -72 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
-      "1 4 30 -8 0 1 0 0 0 1 0 0 0 1 3023.dat\n";  // a floor plate between them
-  auto between = scratch("roof-between.ldr");
-  std::ofstream(between) << "0 roof between\n"
-                         << walls << "1 1 30 -48 0 1 0 0 0 1 0 0 0 1 3023.dat\n";
-  json fallen = check_json({between.string()}, 1);
-  EXPECT_FALSE(fallen["stable"]);
-  ASSERT_EQ(fallen["floating_carried"].size(), 1u) << fallen;
-  EXPECT_EQ(fallen["floating_carried"][0]["line"], 9);
-  EXPECT_TRUE(fallen["joints"].empty()) << fallen["joints"];
-  auto on_top = scratch("roof-on-top.ldr");
-  std::ofstream(on_top) << "0 roof on top\n"
-                        << walls << "1 1 30 -80 0 1 0 0 0 1 0 0 0 1 3710.dat\n";
-  json held = check_json({on_top.string()}, 0);
-  EXPECT_TRUE(held["stable"]);
-  EXPECT_TRUE(held["carried"].empty()) << held["carried"];
-}
-
 TEST(Brickcheck, APartOneLduBesideTheLatticeIsTakenAsOnIt) {
   auto path = scratch("beside.ldr");
   std::ofstream(path) << "0 beside\n"
