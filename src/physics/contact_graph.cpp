@@ -600,26 +600,18 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
           const OrientedBox& p = reach[size_t(d)][size_t(other - box_of_carried[size_t(d)])];
           if (touch(o, p, kCarriedReach)) groups.join(c, d);
         });
-        near_in_model(bounds, kCarriedReach, [&](int id) {
-          const int brick = box_owner[size_t(id)].first;
+        // Every box pair that touches tells where the part is borne; the part is listed once.
+        auto meets = [&](int brick, const OrientedBox& m) {
+          if (!touch(o, m, kCarriedReach) || (!engages_sideways(brick) && side_by_side(o, m)))
+            return;
+          bears(brick, o, m);
           auto& t = touched[size_t(c)];
-          if (std::find(t.begin(), t.end(), brick) != t.end()) return;
-          const OrientedBox m = model_box(id);
-          if (touch(o, m, kCarriedReach) && (engages_sideways(brick) || !side_by_side(o, m))) {
-            t.push_back(brick);
-            bears(brick, o, m);
-          }
-        });
-        stud_index.near(bounds, kCarriedReach, [&](int id) {
-          const int brick = stud_owner[size_t(id)];
-          auto& t = touched[size_t(c)];
-          if (std::find(t.begin(), t.end(), brick) != t.end()) return;
-          const OrientedBox& k = stud_boxes[size_t(id)];
-          if (touch(o, k, kCarriedReach) && (engages_sideways(brick) || !side_by_side(o, k))) {
-            t.push_back(brick);
-            bears(brick, o, k);
-          }
-        });
+          if (std::find(t.begin(), t.end(), brick) == t.end()) t.push_back(brick);
+        };
+        near_in_model(bounds, kCarriedReach,
+                      [&](int id) { meets(box_owner[size_t(id)].first, model_box(id)); });
+        stud_index.near(bounds, kCarriedReach,
+                        [&](int id) { meets(stud_owner[size_t(id)], stud_boxes[size_t(id)]); });
       }
     std::map<int, int> group_of_root;
     std::vector<Vec3> weighted;  // per group: Σ mass · centre
