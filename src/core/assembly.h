@@ -49,6 +49,9 @@ struct Assembly {
   // The ground plane: LDU above the origin (the lattice frame, y up); by default the lowest
   // bottom face of the model.
   std::optional<double> ground_height;
+  // With ground_height: the table's rise per LDU along x and z, where the model rests tilted
+  // (physics/table.h); ground_height is then its height at x = z = 0.
+  std::array<double, 2> ground_slope{0, 0};
   // LDU position of lattice point (0,0,0)'s corner, so written files land where they were read.
   std::array<int, 3> origin_ldu{0, 0, 0};
 };

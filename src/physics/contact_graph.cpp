@@ -10,6 +10,7 @@
 
 #include "physics/disjoint_sets.h"
 #include "physics/knob_grip.h"
+#include "physics/table.h"
 #include "physics/world_shape.h"
 
 namespace lego::physics {
@@ -21,10 +22,7 @@ constexpr double kTouch = 0.25;
 constexpr double kMinFace = 1.0;
 // A carried part joins what comes within this of its body (PHYSICS.md: 1 LDU).
 constexpr double kCarriedReach = 1.0;
-// A model settles on a table: parts whose bottom is within this of the lowest point stand on the
-// ground too. Measured on the corpus: a dozer drawn with its blade 2 LDU below its tyres, or a
-// tower with one ornament 2 LDU below its legs, otherwise rests on that one part and tips.
-constexpr double kSettle = 3.0;
+constexpr double kSettle = kSettleLdu;
 constexpr double kStudPitch = kLduPerStud;
 
 // The in-plane axes of a contact along `axis`, in the order its columns have always had: across
@@ -284,27 +282,28 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
     carried_bottom.push_back(bottom);
   }
 
-  // The ground: given, or the lowest bottom face of anything placed.
-  if (a.ground_height) {
-    g.ground_height = *a.ground_height;
-  } else {
-    bool any = false;
-    auto lowest = [&](double y) {
-      g.ground_height = any ? std::min(g.ground_height, y) : y;
-      any = true;
-    };
-    for (int i = 0; i < n; ++i)
-      if (!shapes[size_t(i)].body.empty()) lowest(brick_bottom[size_t(i)]);
-    for (double bottom : carried_bottom)
-      if (bottom < 1e299) lowest(bottom);
-  }
-  const double ground_y = g.ground_height;
-  auto on_ground = [&](double y) { return std::abs(y - ground_y) <= kTouch; };
+  // The ground: the table the model rests on, given (physics/table.h: settle_on_table), or
+  // level at its lowest point. At that point a baseplate is the ground, and the ground's studs
+  // engage there.
+  Table table;
+  table.slope = a.ground_slope;
+  double ground_y = 1e300;
+  for (int i = 0; i < n; ++i)
+    if (!shapes[size_t(i)].body.empty()) ground_y = std::min(ground_y, brick_bottom[size_t(i)]);
+  for (double bottom : carried_bottom) ground_y = std::min(ground_y, bottom);
+  if (ground_y > 1e299) ground_y = 0;
+  if (a.ground_height && table.level()) ground_y = *a.ground_height;
+  table.height = a.ground_height.value_or(ground_y);
+  g.ground_height = table.height;
+  g.ground_slope = table.slope;
+  auto on_ground = [&](double y) { return table.level() && std::abs(y - ground_y) <= kTouch; };
   for (int i = 0; i < n; ++i) {
     const bool bottom = brick_bottom[size_t(i)] <= ground_y + kSettle;
     g.fixed[size_t(i)] =
         a.bricks[size_t(i)].fixed || (a.bricks[size_t(i)].type->baseplate && bottom);
   }
+  // How far above the table a point is.
+  auto clearance = [&](const Vec3& p) { return p[1] - table.at(p[0], p[2]); };
 
   ReceptacleIndex receptacles;
   receptacles.reserve(receptacle_count);
@@ -525,14 +524,20 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
       if (tilted(*brick.frame)) continue;  // its faces are not level: it stands on no ground
       below = to_model(brick, Vec3{0, 0, 0})[1];
     }
-    const double frame_ground = ground_y - below;
-    for (const Box& b : shapes[size_t(i)].body)
+    for (const Box& b : shapes[size_t(i)].body) {
+      // The table's highest point under the box, and how far above it the box's bottom is.
+      const Box mb = model_bounds(brick, b);
+      double under = -1e300;
+      for (double x : {mb.min[0], mb.max[0]})
+        for (double z : {mb.min[2], mb.max[2]}) under = std::max(under, table.at(x, z));
+      const double frame_ground = under - below;
       if (b.min[1] <= frame_ground + kSettle) {
         const bool on = std::abs(b.min[1] - frame_ground) <= kTouch;
         Meeting& m = meeting(kGround, i, kPlusY, on ? frame_ground : b.min[1]);
         grow(m.patch, m.has_patch, in_plane(b, 1));
         m.support = true;
       }
+    }
   }
   // A turned part's receptacles do not take the baseplate's studs: it rests on them.
   if (ground == GroundMode::Baseplate)
@@ -630,7 +635,8 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
         for (int ax = 0; ax < 3; ++ax) centre[ax] += v * o.centre[ax];
         volume += v;
       }
-      group.on_ground = group.on_ground || carried_bottom[size_t(c)] <= ground_y + kSettle;
+      for (const Vec3& p : carried_outline[size_t(c)])
+        group.on_ground = group.on_ground || clearance(p) <= kSettle;
       const double m = std::max(a.carried[size_t(c)].mass_g, 1e-9);
       for (int ax = 0; ax < 3; ++ax) weighted[size_t(it->second)][ax] += m * centre[ax] / volume;
       group.mass_g += m;
@@ -671,15 +677,19 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
       if (group.joins.empty() || (!group.on_ground && group.rests_on_fixed.empty())) continue;
       // Where the group stands on the ground or a fixed part, it holds the body it joins like
       // the ground does: it pushes and holds sideways.
-      double bottom = 1e300;
-      for (int c : group.carried) bottom = std::min(bottom, carried_bottom[size_t(c)]);
-      const double reach = group.on_ground ? kSettle : kCarriedReach;
+      // It stands on its lowest points (a tyre on a strip across its tread): on the table,
+      // those nearest it, where it is nearest; on a fixed part, those at its bottom.
+      double bottom = 1e300, nearest = 1e300, table_there = 0;
+      for (int c : group.carried) {
+        bottom = std::min(bottom, carried_bottom[size_t(c)]);
+        for (const Vec3& p : carried_outline[size_t(c)])
+          if (clearance(p) < nearest) nearest = clearance(p), table_there = table.at(p[0], p[2]);
+      }
       Meeting& m = meeting(group.on_ground ? kGround : group.rests_on_fixed.front(), group.bearer,
-                           kPlusY, group.on_ground ? ground_y : bottom, /*in_model=*/true);
-      // It stands on its lowest points: a tyre on a strip across its tread.
+                           kPlusY, group.on_ground ? table_there : bottom, /*in_model=*/true);
       for (int c : group.carried)
         for (const Vec3& p : carried_outline[size_t(c)])
-          if (p[1] <= (group.on_ground ? ground_y : bottom) + reach)
+          if (group.on_ground ? clearance(p) <= kSettle : p[1] <= bottom + kCarriedReach)
             grow(m.patch, m.has_patch, {p[0], p[2], p[0], p[2]});
       if (m.patch.u1 - m.patch.u0 < kMinFace)
         m.patch.u0 -= kMinFace / 2, m.patch.u1 += kMinFace / 2;

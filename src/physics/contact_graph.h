@@ -2,6 +2,7 @@
 // Every contact of an assembly (PHYSICS.md "Connections", "Carried parts", "Ground"), in the
 // lattice frame: LDU, y up. Built from the parts' studs, receptacles and body boxes where the
 // assembly places them, through spatial hashes, in time linear in the parts.
+#include <array>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -76,7 +77,13 @@ struct CarriedGroup {
 
 struct ContactGraph {
   GroundMode ground = GroundMode::Baseplate;
-  double ground_height = 0;  // LDU, lattice frame
+  // The table the model rests on (physics/table.h): y = ground_height + ground_slope · (x, z),
+  // LDU, lattice frame; level unless the model rests tilted on its lowest points.
+  double ground_height = 0;
+  std::array<double, 2> ground_slope{0, 0};
+  // Its centre of mass is over nothing it could rest on (Table::tips), and no knob holds it to
+  // the ground: it tips over.
+  bool tips_over = false;
   std::vector<Contact> contacts;
   std::vector<FrictionPoint> friction_points;
   std::vector<std::pair<int, int>> overlaps;  // bricks whose bodies share volume (collisions)

@@ -12,6 +12,7 @@
 #include "core/stopwatch.h"
 #include "physics/clp_lp.h"
 #include "physics/scaled_lp.h"
+#include "physics/table.h"
 
 namespace lego::physics {
 namespace {
@@ -360,6 +361,24 @@ StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) 
   auto start = std::chrono::steady_clock::now();
   r.graph = ContactGraph::build(a, o.ground, o.assumed_joints);
   r.connectivity = analyze_connectivity(int(a.bricks.size()), r.graph);
+  // On the table under it: level at its lowest point unless what stands rests tilted on its
+  // lowest points (physics/table.h). Given a ground (a build step's, the finished model's), as
+  // given.
+  if (!a.ground_height) {
+    const Table table = settle_on_table(a, r.graph, r.connectivity);
+    if (!table.level()) {
+      Assembly tilted = a;
+      tilted.ground_height = table.height;
+      tilted.ground_slope = table.slope;
+      r.graph = ContactGraph::build(tilted, o.ground, o.assumed_joints);
+      r.connectivity = analyze_connectivity(int(a.bricks.size()), r.graph);
+    }
+    // Held by the baseplate's knobs, it cannot tip however its weight lies.
+    const bool anchored =
+        std::any_of(r.graph.contacts.begin(), r.graph.contacts.end(),
+                    [](const Contact& c) { return c.lower == kGround && c.snap(); });
+    r.graph.tips_over = table.tips && !anchored;
+  }
   r.stats.graph_seconds = seconds_since(start);
   if (a.bricks.empty()) return r;
   start = std::chrono::steady_clock::now();

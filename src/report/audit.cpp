@@ -425,6 +425,7 @@ StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options) 
   Assembly partial;
   partial.origin_ldu = whole.origin_ldu;
   partial.ground_height = audit.stability.graph.ground_height;
+  partial.ground_slope = audit.stability.graph.ground_slope;
   std::vector<int> index(whole.bricks.size(), -1);
   for (int i = 0; i < int(whole.bricks.size()); ++i)
     if (whole.bricks[size_t(i)].source.step <= step) {

@@ -143,6 +143,8 @@ json render_json(const Audit& a, const AuditOptions& options) {
   if (options.strict)
     j["strict"] = {{"passes", a.verdict == Verdict::Stable}, {"reasons", deciding}};
   j["status"] = physics::to_string(r.status);
+  j["tips_over"] = r.graph.tips_over;
+  j["ground_slope"] = {r.graph.ground_slope[0], r.graph.ground_slope[1]};
   j["unbalanced"] = json::array();
   for (int b : r.unbalanced) j["unbalanced"].push_back(brick_json(a, b));
   j["min_cm_gf"] = options.min_cm_gf;

@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 
 #include "report/render.h"
@@ -155,7 +156,24 @@ std::string render_text(const Audit& a, bool quiet) {
       fixed ? fmt::format(" ({} the ground)", plural(size_t(fixed), "baseplate or fixed part is"))
             : ""));
   for (int b : c.floating) line("    floating " + describe_brick(a, b));
-  if (!r.unbalanced.empty()) {
+  const bool tips = r.status == physics::StabilityStatus::NoEquilibrium && r.graph.tips_over;
+  if (tips) {
+    // What it stands on, rather than the parts a least virtual force would hold: on a model that
+    // tips, that force goes wherever its lever is longest (a dish at the far end).
+    std::vector<int> standing;
+    for (const auto& c : r.graph.contacts)
+      if (c.lower == physics::kGround &&
+          std::find(standing.begin(), standing.end(), c.upper) == standing.end())
+        standing.push_back(c.upper);
+    line(fmt::format(
+        "  it tips over: its centre of mass is over nothing it stands on, however it settles; it "
+        "stands on {}:",
+        plural(standing.size(), "part")));
+    for (size_t i = 0; i < standing.size() && i < 10; ++i)
+      line("    " + describe_brick(a, standing[i]));
+    if (standing.size() > 10) line(fmt::format("    and {} more", standing.size() - 10));
+  }
+  if (!r.unbalanced.empty() && !tips) {
     line(fmt::format("  no equilibrium: nothing holds {} (they tip or hang):",
                      plural(r.unbalanced.size(), "part")));
     for (size_t i = 0; i < r.unbalanced.size() && i < 20; ++i)

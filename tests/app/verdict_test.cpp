@@ -137,6 +137,36 @@ TEST(Verdict, StrictFailsOnlyOnWhatCanChangeTheVerdict) {
       << text.out;
 }
 
+// A vehicle whose front roller (a 1 x 2 turned 45 degrees, carried) reaches 4 LDU below its rear
+// wheels (1 x 1 bricks turned the same way, 4 LDU above the table) rests on both, tilted 1.6
+// degrees, as on a real table: it stands. Level, only the roller touched and it tipped back,
+// "no equilibrium" blaming the chassis.
+TEST(Verdict, AVehicleRestsWhereARealTableWouldTouchIt) {
+  const std::string chassis =
+      "1 4 0 -36 0 1 0 0 0 1 0 0 0 1 3034.dat\n"
+      "1 14 0 -60 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 0 -70 -28 -10 0.7071 0 0.7071 0 1 0 -0.7071 0 0.7071 3005.dat\n"
+      "1 0 -70 -28 10 0.7071 0 0.7071 0 1 0 -0.7071 0 0.7071 3005.dat\n";
+  json roller =
+      check(write("roller.ldr",
+                  chassis + "1 0 70 -24 0 0.7071 0 0.7071 0 1 0 -0.7071 0 0.7071 3004.dat\n"),
+            0);
+  EXPECT_EQ(roller["verdict"], "stable");
+  EXPECT_NEAR(roller["ground_slope"][0].get<double>(), -4.0 / 140, 2e-3);
+  EXPECT_FALSE(roller["tips_over"]);
+  // A 1 x 8 on a 1 x 2, a 2 x 4 on its far end: on a table (which does not hold knobs) its
+  // centre of mass is over nothing it stands on, however it settles; the report says it tips.
+  const auto tipping = write("tipping.ldr",
+                             "1 14 0 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n"
+                             "1 14 60 -48 0 1 0 0 0 1 0 0 0 1 3008.dat\n"
+                             "1 14 120 -72 0 1 0 0 0 1 0 0 0 1 3001.dat\n");
+  const auto text = run_tool("brickcheck", {"--ground", "table", tipping.string()});
+  EXPECT_EQ(text.exit_code, 1) << text.out;
+  EXPECT_NE(text.out.find("it tips over: its centre of mass is over nothing it stands on"),
+            std::string::npos)
+      << text.out;
+}
+
 // The model turned by quarter turns about the vertical, or mirrored (x to -x, each part's
 // matrix mirrored the same way), as LDraw writes it.
 std::string transformed(const std::string& text, int quarter_turns, bool mirror) {
