@@ -238,8 +238,9 @@ report::AuditOptions corpus_options(const fs::path& shared, double max_seconds) 
 // reasons parts are carried.
 void corpus_section(const fs::path& shared, double max_seconds) {
   const fs::path corpus = shared / "ldraw-corpus", library = shared / "ldraw-library";
-  int models = 0, with_cm = 0, floating = 0, unreadable = 0;
+  int models = 0, with_cm = 0, floating = 0, unreadable = 0, judged = 0, assuming = 0;
   size_t parts = 0, analysed = 0, turned = 0, carried = 0, left_out = 0;
+  double analysed_mass = 0, carried_mass = 0;
   std::vector<double> times;
   std::string slowest;
   std::map<std::string, int> reasons;
@@ -253,6 +254,11 @@ void corpus_section(const fs::path& shared, double max_seconds) {
     }
     with_cm += a.stability.status == physics::StabilityStatus::Solved;
     floating += !a.stability.connectivity.all_grounded();
+    judged += a.verdict != report::Verdict::NotJudged &&
+              a.verdict != report::Verdict::NothingToAnalyse;
+    assuming += a.verdict == report::Verdict::Stable && !a.assumptions.summary().empty();
+    analysed_mass += a.assumptions.analysed_mass_g;
+    carried_mass += a.assumptions.carried_mass_g;
     parts += a.model.parts.size();
     analysed += a.conversion.assembly.bricks.size();
     turned += size_t(report::turned_lattice_bricks(a.conversion.assembly));
@@ -273,6 +279,11 @@ void corpus_section(const fs::path& shared, double max_seconds) {
              number(median(times)), number(*std::max_element(times.begin(), times.end())), slowest);
   fmt::print("analysed on turned lattices: {} occurrences ({})\n", turned,
              share(double(turned), double(parts)));
+  fmt::print(
+      "judged: {} of the models; stable with assumptions: {}; mass analysed: {} of what is "
+      "analysed or carried\n",
+      share(judged, models), share(assuming, models),
+      share(analysed_mass, analysed_mass + carried_mass));
   std::vector<std::pair<int, std::string>> ranked;
   for (const auto& [reason, n] : reasons) ranked.emplace_back(n, reason);
   std::sort(ranked.rbegin(), ranked.rend());
