@@ -39,8 +39,19 @@ struct Box {
   double volume() const { return (max[0] - min[0]) * (max[1] - min[1]) * (max[2] - min[2]); }
 };
 
+// A Technic connection of a part (docs/physics.md, "Joints"): a hole a pin or an axle goes
+// through, or a pin or an axle, along one of the part's axes from `a` to `b` (LDU).
+struct Shaft {
+  // A friction pin's ridges grip its hole: it turns, but holds a little (docs/physics.md).
+  enum class Kind : uint8_t { PinHole, AxleHole, Pin, FrictionPin, Axle };
+  Kind kind = Kind::PinHole;
+  Vec3 a{0, 0, 0}, b{0, 0, 0};
+  bool hole() const { return kind == Kind::PinHole || kind == Kind::AxleHole; }
+};
+
 struct PartShape {
   std::vector<Connector> studs, receptacles;
+  std::vector<Shaft> shafts;  // Technic holes, pins and axles
   // Receptacles inside the tubes between four cells (stud4.dat), half a stud off the cells: where
   // a jumper plate's offset stud goes. Not cells: the ground's studs never reach them.
   std::vector<Connector> bores;

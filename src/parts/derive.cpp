@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include "core/lattice.h"
 
@@ -176,6 +177,51 @@ std::string carried_by_name(const PartGeometry& g) {
   if (first == "Wheel" || first == "Tyre" || first == "Tire")
     return "a wheel or tyre (its axle is not modelled)";
   return {};
+}
+
+// The part's Technic connections as whole shafts: the pieces a primitive draws on one line
+// (a pin's two halves, a hole's end rings) joined, where they touch or, for holes, where no more
+// than a stud's width lies between them.
+std::vector<Shaft> joined_shafts(std::vector<Shaft> drawn) {
+  struct Key {
+    Shaft::Kind kind;
+    int axis;
+    double u, v, lo, hi;
+  };
+  std::vector<Key> keys;
+  for (const Shaft& s : drawn) {
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (std::abs(s.a[size_t(k)] - s.b[size_t(k)]) >
+          std::abs(s.a[size_t(axis)] - s.b[size_t(axis)]))
+        axis = k;
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    auto grid = [](double x) { return std::round(x * 4) / 4; };
+    keys.push_back({s.kind, axis, grid(s.a[size_t(u)]), grid(s.a[size_t(v)]),
+                    std::min(s.a[size_t(axis)], s.b[size_t(axis)]),
+                    std::max(s.a[size_t(axis)], s.b[size_t(axis)])});
+  }
+  std::sort(keys.begin(), keys.end(), [](const Key& x, const Key& y) {
+    return std::tie(x.kind, x.axis, x.u, x.v, x.lo) < std::tie(y.kind, y.axis, y.u, y.v, y.lo);
+  });
+  std::vector<Shaft> out;
+  for (size_t i = 0; i < keys.size();) {
+    Key k = keys[i];
+    const bool hole = k.kind == Shaft::Kind::PinHole || k.kind == Shaft::Kind::AxleHole;
+    size_t j = i + 1;
+    for (; j < keys.size() && keys[j].kind == k.kind && keys[j].axis == k.axis &&
+           keys[j].u == k.u && keys[j].v == k.v && keys[j].lo <= k.hi + (hole ? kPitch : kEps);
+         ++j)
+      k.hi = std::max(k.hi, keys[j].hi);
+    Shaft s;
+    s.kind = k.kind;
+    s.a[size_t(k.axis)] = k.lo, s.b[size_t(k.axis)] = k.hi;
+    s.a[size_t((k.axis + 1) % 3)] = s.b[size_t((k.axis + 1) % 3)] = k.u;
+    s.a[size_t((k.axis + 2) % 3)] = s.b[size_t((k.axis + 2) % 3)] = k.v;
+    out.push_back(s);
+    i = j;
+  }
+  return out;
 }
 
 }  // namespace
@@ -392,6 +438,7 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   Receptacles found = receptacles(g);
   t.shape.receptacles = std::move(found.cells);
   t.shape.bores = std::move(found.bores);
+  t.shape.shafts = joined_shafts(g.shafts);
   std::optional<Vec3> cell;
   for (const Connector& s : t.shape.studs)
     if (s.direction == kMinusY) cell = s.at;
@@ -427,8 +474,11 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   // parts are carried whatever their cells (PHYSICS.md): a head's cell takes a neck.
   if (k.carried_reason.empty() && (t.shape.receptacles.empty() || minifigure(g)))
     k.carried_reason = carried_by_name(g);
-  if (k.carried_reason.empty() && t.shape.studs.empty() && t.shape.receptacles.empty())
-    k.carried_reason = "no studs or receptacles (its connections are not modelled)";
+  if (k.carried_reason.empty() && t.shape.studs.empty() && t.shape.receptacles.empty() &&
+      t.shape.shafts.empty())
+    k.carried_reason =
+        "no studs, receptacles, pin holes, pins or axles (its connections are not "
+        "modelled)";
   return k;
 }
 

@@ -81,6 +81,19 @@ bool is_stud_primitive(std::string_view b) {
   return b.ends_with(".dat");
 }
 
+std::optional<Shaft::Kind> shaft_primitive(std::string_view b) {
+  if (!b.ends_with(".dat")) return std::nullopt;
+  for (const char* hole : {"peghole", "npeghol", "connhol", "beamhol"})
+    if (b.starts_with(hole)) return Shaft::Kind::PinHole;
+  for (const char* hole : {"axlehol", "axl2hol", "axl3hol", "axl5hol"})
+    if (b.starts_with(hole)) return Shaft::Kind::AxleHole;
+  if (b.starts_with("confric")) return Shaft::Kind::FrictionPin;
+  for (const char* pin : {"connect", "wpin"})
+    if (b.starts_with(pin)) return Shaft::Kind::Pin;
+  if (b == "axle.dat") return Shaft::Kind::Axle;
+  return std::nullopt;
+}
+
 std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
                                                            const FileFinder& find,
                                                            std::string& why) {
@@ -183,6 +196,23 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
     for (const Triangle& tri : sub->faces)
       g->faces.push_back(
           {{transformed(t, tri.p[0]), transformed(t, tri.p[1]), transformed(t, tri.p[2])}});
+    // A Technic primitive is one shaft along its y axis, as long as it draws; what it is drawn
+    // with is not another.
+    auto take_shaft = [&](const Shaft& s) {
+      const Vec3 a = transformed(t, s.a), b = transformed(t, s.b);
+      int axes = 0;
+      for (int k = 0; k < 3; ++k) axes += std::abs(a[size_t(k)] - b[size_t(k)]) > 1e-3;
+      if (axes == 1) g->shafts.push_back({s.kind, a, b});
+    };
+    if (const auto kind = shaft_primitive(base)) {
+      double lo = 1e300, hi = -1e300;
+      for (const Triangle& tri : sub->faces)
+        for (const Vec3& p : tri.p) lo = std::min(lo, p[1]), hi = std::max(hi, p[1]);
+      if (hi - lo < 1e-3) lo = 0, hi = 1;  // drawn flat: a unit length, as its scale gives
+      take_shaft({*kind, {0, lo, 0}, {0, hi, 0}});
+    } else {
+      for (const Shaft& s : sub->shafts) take_shaft(s);
+    }
     for (const Connector& s : sub->studs) {
       // The stud's axis turned by t: its direction as a unit vector through the rotation.
       Vec3 axis{0, 0, 0};

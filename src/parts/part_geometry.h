@@ -25,9 +25,12 @@ struct Triangle {
 };
 
 struct PartGeometry {
-  std::vector<Triangle> faces;       // type 3 and 4 lines, stud primitives left out
-  std::vector<Connector> studs;      // stud primitives whose axis is one of the six directions
-  int angled_studs = 0;              // stud primitives at other angles
+  std::vector<Triangle> faces;   // type 3 and 4 lines, stud primitives left out
+  std::vector<Connector> studs;  // stud primitives whose axis is one of the six directions
+  int angled_studs = 0;          // stud primitives at other angles
+  // Technic hole, pin and axle primitives along one of the axes, each as drawn (a pin hole's end
+  // rings, a pin's halves: derive.cpp joins them); those at other angles are left out.
+  std::vector<Shaft> shafts;
   std::string title;                 // the file's first line, "~Moved to" followed
   std::string category;              // !CATEGORY, or the title's first word
   std::vector<std::string> missing;  // subfiles not found, each name once, sorted
@@ -61,5 +64,12 @@ double geometry_extent(const PartGeometry& geometry);
 // Whether a primitive's file name (no folder) is a stud: stud.dat, stud2.dat, stud10.dat ...
 // but not the underside tubes and pins (stud3*, stud4*, stud12, stud16, stud18*, stud2s*).
 bool is_stud_primitive(std::string_view base_name);
+
+// The Technic connection a primitive draws along its y axis, by its file name (no folder): pin
+// holes (peghole*, npeghol*, connhol*, beamhol*), axle holes (axlehole, axlehol*, axl2hol*,
+// axl3hol*, axl5hol*), pins (connect*, wpin*), friction pins (confric*) and axles (axle.dat);
+// nullopt for any
+// other file (the bushes, bush*.dat, do not lie along their y axis).
+std::optional<Shaft::Kind> shaft_primitive(std::string_view base_name);
 
 }  // namespace lego::parts

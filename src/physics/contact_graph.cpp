@@ -782,6 +782,80 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
     }
     add_contact(c);
   }
+  // Technic joints (docs/physics.md, "Joints"): a pin or an axle of one part on the line of
+  // another's hole, within a LDU of it and overlapping it, joins the two, on one lattice. An
+  // axle in an axle hole holds every way; anything else turns about the line.
+  {
+    using Line = std::tuple<int, int64_t, int64_t, int>;  // axis, the line across it, frame
+    auto line_of = [&](const Shaft& s, int brick, int64_t du, int64_t dv) -> std::pair<Line, int> {
+      int axis = 0;
+      for (int k = 1; k < 3; ++k)
+        if (std::abs(s.a[size_t(k)] - s.b[size_t(k)]) >
+            std::abs(s.a[size_t(axis)] - s.b[size_t(axis)]))
+          axis = k;
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      return {{axis, std::llround(s.a[size_t(u)]) + du, std::llround(s.a[size_t(v)]) + dv,
+               frame_of(brick)},
+              axis};
+    };
+    std::map<Line, std::vector<std::pair<int, const Shaft*>>> holes;
+    for (int i = 0; i < n; ++i)
+      for (const Shaft& s : shapes[size_t(i)].shafts)
+        if (s.hole()) holes[line_of(s, i, 0, 0).first].emplace_back(i, &s);
+    struct Fit {
+      double lo = 1e300, hi = -1e300;
+      bool holds = false, friction = false;
+      int axis = 0;
+      Vec3 on_line{0, 0, 0};
+    };
+    std::map<std::pair<int, int>, Fit> fits;  // (part with the hole, part with the shaft)
+    if (!holes.empty())
+      for (int j = 0; j < n; ++j)
+        for (const Shaft& s : shapes[size_t(j)].shafts) {
+          if (s.hole()) continue;
+          for (int64_t du = -1; du <= 1; ++du)
+            for (int64_t dv = -1; dv <= 1; ++dv) {
+              const auto [line, axis] = line_of(s, j, du, dv);
+              auto it = holes.find(line);
+              if (it == holes.end()) continue;
+              for (const auto& [i, hole] : it->second) {
+                if (i == j || (g.fixed[size_t(i)] && g.fixed[size_t(j)])) continue;
+                const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                if (std::hypot(hole->a[size_t(u)] - s.a[size_t(u)],
+                               hole->a[size_t(v)] - s.a[size_t(v)]) > kCarriedReach)
+                  continue;
+                const double lo = std::max(std::min(hole->a[size_t(axis)], hole->b[size_t(axis)]),
+                                           std::min(s.a[size_t(axis)], s.b[size_t(axis)]));
+                const double hi = std::min(std::max(hole->a[size_t(axis)], hole->b[size_t(axis)]),
+                                           std::max(s.a[size_t(axis)], s.b[size_t(axis)]));
+                if (hi - lo < kMinFace) continue;
+                Fit& f = fits[{i, j}];
+                f.lo = std::min(f.lo, lo), f.hi = std::max(f.hi, hi);
+                f.holds =
+                    f.holds || (s.kind == Shaft::Kind::Axle && hole->kind == Shaft::Kind::AxleHole);
+                f.friction = f.friction || s.kind == Shaft::Kind::FrictionPin;
+                f.axis = axis;
+                f.on_line = hole->a;
+              }
+            }
+        }
+    for (auto& [pair, f] : fits) {
+      const auto [i, j] = pair;
+      Contact c;
+      c.lower = g.fixed[size_t(j)] ? j : i;
+      c.upper = g.fixed[size_t(j)] ? i : j;
+      c.joint = true;
+      c.joint_kind = f.holds ? Contact::Kind::Holds : Contact::Kind::Turns;
+      c.joint_friction = f.friction;
+      Vec3 mid = f.on_line;
+      mid[size_t(f.axis)] = (f.lo + f.hi) / 2;
+      c.joint_point = to_model(a.bricks[size_t(i)], mid);
+      Vec3 axis{0, 0, 0};
+      axis[size_t(f.axis)] = 1;
+      c.joint_axis = to_model_direction(a.bricks[size_t(i)], axis);
+      g.shaft_joints.push_back(add_contact(c));
+    }
+  }
   // Assumed-rigid joints, after every other contact: each group ties the bricks it joins along
   // the shortest links between their centres (a tree of joints is as rigid as one body). Merged
   // into one body, those bricks made rows dense and the interior point method stalled; a star

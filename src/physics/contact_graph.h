@@ -49,10 +49,17 @@ struct Contact {
   // upper part is placed off the lattice (it would sit on the studs, not on the face).
   bool misaligned = false;
   bool joint = false;
+  // What kind of joint: assumed rigid (through carried parts, or where two lattices touch), or
+  // a Technic shaft in a hole (docs/physics.md, "Joints"): an axle in an axle hole holds every
+  // way; a pin, or an axle in a round hole, turns freely about `joint_axis`.
+  enum class Kind : uint8_t { Assumed, Turns, Holds };
+  Kind joint_kind = Kind::Assumed;
   // Its plane, patch and friction points are in the lattice frame of `upper`, which lies on a
   // turned frame (Brick::frame); otherwise, and for a joint, in the model's.
   bool turned = false;
-  Vec3 joint_point{0, 0, 0};                  // lattice frame, LDU
+  Vec3 joint_point{0, 0, 0};    // lattice frame, LDU
+  Vec3 joint_axis{0, 0, 0};     // with Kind::Turns: the shaft's axis, a unit vector in the model
+  bool joint_friction = false;  // with Kind::Turns: a friction pin, holding kFrictionPinMoment
   uint32_t first_point = 0, point_count = 0;  // range in ContactGraph::friction_points
   bool snap() const { return studs > 0; }
 };
@@ -93,6 +100,8 @@ struct ContactGraph {
   // The assumed-rigid joints where parts of two lattices touch (README "What it analyses", turned
   // lattices): indices into `contacts`.
   std::vector<int> lattice_joints;
+  // The Technic joints, a shaft of one part in a hole of another: indices into `contacts`.
+  std::vector<int> shaft_joints;
 
   // Without `assumed_joints`, carried parts and parts of two lattices tie nothing together:
   // what a verdict is without those assumptions (brickcheck --strict).

@@ -10,11 +10,6 @@ namespace lego::physics {
 namespace {
 
 constexpr int kInPlane[3][2] = {{1, 2}, {0, 2}, {1, 0}};  // as in contact_graph.cpp
-// A joint carries whole parts of a model: its columns count in units of this many times a
-// contact's, so that they stay inside the box the solver puts around free columns (a joint
-// holding 10 N reached 527 of the box's 1,000 on the corpus's shopping centre, and the box was
-// widened and the LP solved again).
-constexpr double kJointUnit = 100;
 // Coefficients are forces (1) and lever arms in studs (1e-2 and up): below this is roundoff.
 constexpr double kNegligible = 1e-9;
 
@@ -100,6 +95,29 @@ class Builder {
   }
 };
 
+// The axes a joint holds a moment about (unit vectors, the model's frame): all three, or for a
+// joint that turns the two across its axis.
+std::vector<Vec3> moment_axes(const Contact& c) {
+  if (c.joint_kind != Contact::Kind::Turns) return {unit(0), unit(1), unit(2)};
+  const Vec3& w = c.joint_axis;
+  std::vector<Vec3> out;
+  for (int a = 0; a < 3; ++a)  // the lattice axes across it, where it lies along one
+    if (std::abs(w[size_t(a)]) < kNegligible) out.push_back(unit(a));
+  if (out.size() == 2) return out;
+  // Otherwise two unit vectors across it: the lattice axis least along it, made square to it,
+  // and their cross product.
+  int least = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::abs(w[size_t(a)]) < std::abs(w[size_t(least)])) least = a;
+  Vec3 u = unit(least);
+  const double along = u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
+  for (int k = 0; k < 3; ++k) u[size_t(k)] -= along * w[size_t(k)];
+  const double length = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  for (double& x : u) x /= length;
+  const Vec3 v{w[1] * u[2] - w[2] * u[1], w[2] * u[0] - w[0] * u[2], w[0] * u[1] - w[1] * u[0]};
+  return {u, v};
+}
+
 }  // namespace
 
 EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
@@ -154,10 +172,22 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
 
   // Friction pulls the upper part towards the lower one, at the knob rim. A column's value is
   // the force over the point's share of T (knob_grip.h), so that every friction column is
-  // bounded by T alike: the LP's C_M is T less the largest of those values.
+  // bounded by T alike: the LP's C_M is T less the largest of those values. A friction pin's
+  // grip is such a column each way, its moment about the pin kFrictionPinMoment at T.
   for (int ci = 0; ci < int(g.contacts.size()); ++ci) {
     if (!taken[size_t(ci)]) continue;
     const Contact& c = g.contacts[size_t(ci)];
+    if (c.joint && c.joint_kind == Contact::Kind::Turns && c.joint_friction &&
+        !model.turning_joints_hold) {
+      for (double sign : {1.0, -1.0}) {
+        const double m = sign * kFrictionPinMoment / kMaxFrictionLoad;
+        const Vec3 e{c.joint_axis[0] * m, c.joint_axis[1] * m, c.joint_axis[2] * m};
+        b.apply_moment(c.upper, e);
+        b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
+        b.end_column(ForceKind::Friction, ci);
+      }
+      continue;
+    }
     const Vec3 d = model_direction(c, unit(axis_of(c.direction), sign_of(c.direction)));
     for (uint32_t k = 0; k < c.point_count; ++k) {
       const FrictionPoint& p = g.friction_points[c.first_point + k];
@@ -181,10 +211,19 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
         b.apply(c.lower, at, {-e[0], -e[1], -e[2]});
         b.end_column(ForceKind::Support, ci);
       }
-      for (int a = 0; a < 3; ++a) {
-        const Vec3 e = unit(a, kJointUnit);
+      // A joint that turns holds no moment about its axis (its friction is taken as none).
+      for (const Vec3& m : moment_axes(c)) {
+        const Vec3 e{m[0] * kJointUnit, m[1] * kJointUnit, m[2] * kJointUnit};
         b.apply_moment(c.upper, e);
         b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
+        b.end_column(ForceKind::Support, ci);
+      }
+      if (c.joint_kind == Contact::Kind::Turns && model.turning_joints_hold) {
+        const Vec3& m = c.joint_axis;
+        const Vec3 e{m[0] * kJointUnit, m[1] * kJointUnit, m[2] * kJointUnit};
+        b.apply_moment(c.upper, e);
+        b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
+        s.turning_columns.push_back(s.columns());
         b.end_column(ForceKind::Support, ci);
       }
       continue;
@@ -224,6 +263,15 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
         const Vec3 e = model_direction(c, unit(in_plane));
         b.apply(c.upper, mid, e);
         b.apply(c.lower, mid, {-e[0], -e[1], -e[2]});
+        b.end_column(ForceKind::Support, ci);
+      }
+      // Two knobs or more, pressing sideways in their receptacles, also hold a twist about the
+      // knobs' axis, as the support force holds the push across it (knobs do not break); one
+      // knob turns in its receptacle.
+      if (c.studs >= 2 && model.knobs_hold_twist) {
+        const Vec3 e = model_direction(c, unit(axis, kJointUnit));
+        b.apply_moment(c.upper, e);
+        b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
         b.end_column(ForceKind::Support, ci);
       }
     }

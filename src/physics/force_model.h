@@ -11,6 +11,14 @@ namespace lego::physics {
 // Constants of PHYSICS.md. Forces inside the solver are in g·m/s² (1 g·m/s² = 1 mN).
 inline constexpr double kGravity = 9.8;
 inline constexpr double kMaxFrictionLoad = 71.658 * kGravity;  // T, per contact point
+// A joint carries whole parts of a model: its columns count in units of this many times a
+// contact's, so that they stay inside the box the solver puts around free columns (a joint
+// holding 10 N reached 527 of the box's 1,000 on the corpus's shopping centre, and the box was
+// widened and the LP solved again).
+inline constexpr double kJointUnit = 100;
+// The moment a friction pin holds about its axis before it turns (g·m/s²·stud): an estimate, not
+// a measurement (docs/physics.md, "Joints"): a light Technic beam's weight a few studs out.
+inline constexpr double kFrictionPinMoment = 5 * kGravity;
 
 enum class ForceKind : uint8_t { Friction, Normal, Support };
 
@@ -32,6 +40,9 @@ struct EquilibriumSystem {
 
   int columns() const { return int(kind.size()); }
   int friction_columns = 0;
+  // With Formulation::turning_joints_hold: the column of the moment each turning joint holds
+  // about its axis (its contact is `contact[column]`).
+  std::vector<int> turning_columns;
   static constexpr int kEquations = 6;  // rows per body
   static int row(int body, int equation) { return kEquations * body + equation; }
   static int body_of_row(int row) { return row / kEquations; }
@@ -47,6 +58,12 @@ struct Formulation {
   // Where two snapped parts push on each other: at the corners of the patch where their faces
   // meet (the paper), or only at the contact points of the knobs (StableLego, BrickSim).
   bool push_at_knobs = false;
+  // Two knobs or more hold a twist about their axis (a free moment, as the support force is a
+  // free force); false: one support force at the patch's centre, as the paper (2D) writes it.
+  bool knobs_hold_twist = true;
+  // Joints that turn (a pin in a hole) hold a moment about their axis as well, as if welded:
+  // what the model would be if they did not turn (the diagnosis of a model that stands only so).
+  bool turning_joints_hold = false;
 };
 
 // Lengths in the equations are in studs (a plate is 0.4 stud): torques need true proportions.

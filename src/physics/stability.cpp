@@ -108,6 +108,39 @@ std::optional<std::vector<int>> unbalanced_bodies(const EquilibriumSystem& sys,
   return bodies;
 }
 
+// With no equilibrium, the joints that turn and must not: the model analysed with them holding a
+// moment about their axis as well, friction unlimited, the least total such moment (each column
+// split by sign, priced 1). None when even that does not stand: what fails is elsewhere.
+std::vector<std::pair<int, double>> turning_joints(const Assembly& a, const StabilityResult& r,
+                                                   const StabilityOptions& o, double max_seconds) {
+  if (std::none_of(r.graph.shaft_joints.begin(), r.graph.shaft_joints.end(), [&](int k) {
+        return r.graph.contacts[size_t(k)].joint_kind == Contact::Kind::Turns;
+      }))
+    return {};
+  Formulation held = o.formulation;
+  held.turning_joints_hold = true;
+  const EquilibriumSystem sys = build_equilibrium(a, r.graph, r.connectivity, held);
+  LpData lp = equilibrium_lp(sys, kInfinity, 1.0, kInfinity);
+  for (int j : sys.turning_columns) {
+    lp.col_lower[size_t(j)] = 0, lp.objective[size_t(j)] = 1;
+    std::vector<std::pair<int, double>> negated;
+    for (int k = sys.column_start[size_t(j)]; k < sys.column_start[size_t(j) + 1]; ++k)
+      negated.emplace_back(sys.row_index[size_t(k)], -sys.value[size_t(k)]);
+    lp.add_column(0, kInfinity, 1, negated);
+  }
+  const LpSolution s = solve_lp(lp, LpMethod::DualSimplex, true, true, max_seconds);
+  if (s.outcome != LpOutcome::Optimal) return {};
+  std::map<int, double> by_contact;
+  for (size_t t = 0; t < sys.turning_columns.size(); ++t) {
+    const int j = sys.turning_columns[t];
+    const double moment = s.x[size_t(j)] + s.x[size_t(sys.columns()) + t];
+    if (moment > 1e-6) by_contact[sys.contact[size_t(j)]] += moment;
+  }
+  std::vector<std::pair<int, double>> out(by_contact.begin(), by_contact.end());
+  for (auto& [contact, moment] : out) moment *= kJointUnit;  // lever arms are in studs
+  return out;
+}
+
 // No equilibrium: `bodies` (EquilibriumSystem bodies, sorted) are those the diagnosis names.
 void set_no_equilibrium(const EquilibriumSystem& sys, const std::vector<int>& bodies,
                         StabilityResult& r) {
@@ -394,6 +427,8 @@ StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) 
   else
     solve_max_min(sys, o, r);
   r.stats.solve_seconds = seconds_since(start);
+  if (r.status == StabilityStatus::NoEquilibrium)
+    r.turning = turning_joints(a, r, o, o.max_seconds);
   if (o.brick_capacity && r.status == StabilityStatus::Solved) {
     start = std::chrono::steady_clock::now();
     brick_capacity(a, sys, o, r);

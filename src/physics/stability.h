@@ -82,6 +82,9 @@ struct StabilityResult {
   std::vector<double> brick_capacity;  // per brick, g·m/s² (when asked for and Solved)
   // With NoEquilibrium: the bricks whose rigid bodies no forces can hold (they tip or hang).
   std::vector<int> unbalanced;
+  // With NoEquilibrium: the joints that turn (ContactGraph::contacts) and must not for the model
+  // to stand, with the least moment each would have to hold about its axis (g·m/s²·stud).
+  std::vector<std::pair<int, double>> turning;
   ContactGraph graph;
   Connectivity connectivity;
   LpStats stats;

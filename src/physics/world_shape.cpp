@@ -45,6 +45,9 @@ WorldShape world_shape(const Brick& brick) {
   place(shape.studs, w.studs);
   place(shape.receptacles, w.receptacles);
   place(shape.bores, w.bores);
+  w.shafts.reserve(shape.shafts.size());
+  for (const Shaft& s : shape.shafts)
+    w.shafts.push_back({s.kind, to_world(pose, s.a), to_world(pose, s.b)});
   return w;
 }
 

@@ -15,6 +15,7 @@ inline constexpr double kSnap = 1.0 / 8;
 struct WorldShape {
   std::vector<Box> body;
   std::vector<Connector> studs, receptacles, bores;
+  std::vector<Shaft> shafts;
 };
 // In the brick's lattice frame: the model's, or its turned frame (Brick::frame) when it has one.
 WorldShape world_shape(const Brick& brick);

@@ -275,6 +275,20 @@ void carry_unconnected(Audit& audit, physics::GroundMode ground) {
   Floating now = floating_bricks(a, ground);
   if (std::find(now.bricks.begin(), now.bricks.end(), 1) == now.bricks.end()) return;
   if (nudge_onto_the_lattice(audit, now.bricks, ground)) now = floating_bricks(a, ground);
+  // Technic parts held by nothing but their pins, axles and holes, where those meet nothing that
+  // stands, are carried first: carried, they still join what they touch, and what hangs on them
+  // may stand through them (a mast of connectors and axles whose holes are not all found).
+  std::vector<char> shafts_only(a.bricks.size(), 0);
+  bool technic = false;
+  for (size_t i = 0; i < a.bricks.size(); ++i) {
+    const PartShape& shape = a.bricks[i].type->shape;
+    shafts_only[i] = now.bricks[i] && shape.studs.empty() && shape.receptacles.empty();
+    technic = technic || shafts_only[i];
+  }
+  if (technic) {
+    carry_bricks(audit, shafts_only, "its pins, axles and holes meet nothing that stands");
+    now = floating_bricks(a, ground);
+  }
   const physics::ContactGraph& graph = now.graph;
   std::vector<char>& floating = now.bricks;
   std::vector<char> pivots(a.bricks.size(), 0);

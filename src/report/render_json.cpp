@@ -142,6 +142,21 @@ json render_json(const Audit& a, const AuditOptions& options) {
                       {"deciding", deciding}};
   if (options.strict)
     j["strict"] = {{"passes", a.verdict == Verdict::Stable}, {"reasons", deciding}};
+  j["technic_joints"] = json::array();
+  for (int k : r.graph.shaft_joints) {
+    const auto& c = r.graph.contacts[size_t(k)];
+    j["technic_joints"].push_back(
+        {{"kind", c.joint_kind == physics::Contact::Kind::Holds ? "holds" : "turns"},
+         {"a", brick_json(a, c.lower)},
+         {"b", brick_json(a, c.upper)}});
+  }
+  j["turning"] = json::array();
+  for (const auto& [k, moment] : r.turning) {
+    const auto& c = r.graph.contacts[size_t(k)];
+    j["turning"].push_back({{"a", brick_json(a, c.lower)},
+                            {"b", brick_json(a, c.upper)},
+                            {"moment_gf_stud", moment / physics::kGravity}});
+  }
   j["status"] = physics::to_string(r.status);
   j["tips_over"] = r.graph.tips_over;
   j["ground_slope"] = {r.graph.ground_slope[0], r.graph.ground_slope[1]};

@@ -173,7 +173,18 @@ std::string render_text(const Audit& a, bool quiet) {
       line("    " + describe_brick(a, standing[i]));
     if (standing.size() > 10) line(fmt::format("    and {} more", standing.size() - 10));
   }
-  if (!r.unbalanced.empty() && !tips) {
+  if (!r.turning.empty()) {
+    line(fmt::format(
+        "  no equilibrium: {} turn{} and must not (the least moment each would have to hold "
+        "about its axis):",
+        plural(r.turning.size(), "joint"), r.turning.size() == 1 ? "s" : ""));
+    for (size_t i = 0; i < r.turning.size() && i < 20; ++i) {
+      const auto& c = r.graph.contacts[size_t(r.turning[i].first)];
+      line(fmt::format("    {} and {}: {:.3f} gf·stud", describe_brick(a, c.lower),
+                       describe_brick(a, c.upper), r.turning[i].second / physics::kGravity));
+    }
+  }
+  if (!r.unbalanced.empty() && !tips && r.turning.empty()) {
     line(fmt::format("  no equilibrium: nothing holds {} (they tip or hang):",
                      plural(r.unbalanced.size(), "part")));
     for (size_t i = 0; i < r.unbalanced.size() && i < 20; ++i)

@@ -145,6 +145,48 @@ TEST(BrickcheckReal, ABrickRestingOnATile) {
   EXPECT_EQ(lifted["floating_carried"][0]["line"], 4);
 }
 
+// Technic joints (issue 35): a 1 x 2 brick with a hole on a stack, another beside it held only
+// by a pin through both holes, a 1 x 4 brick on the second reaching out. A pin turns: nothing
+// holds the arm, and the report names the joints that would have to hold a moment about the pin
+// (3.48 gf·stud: the 1 x 4's 1.74 g two studs out). Two pins hold it; an axle through axle holes
+// holds it alone; a friction pin holds a little (kFrictionPinMoment, 5 gf·stud), so the arm
+// stands on one, its grip in C_M.
+TEST(BrickcheckReal, TechnicPinsTurnAxlesHold) {
+  SKIP_WITHOUT_SHARED();
+  const std::string stack =
+      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n"
+      "1 4 0 -48 0 1 0 0 0 1 0 0 0 1 3700.dat\n"
+      "1 1 0 -48 20 1 0 0 0 1 0 0 0 1 3700.dat\n";
+  const std::string pin = "1 7 0 -38 10 0 0 1 0 1 0 -1 0 0 3673.dat\n";
+  const std::string arm = "1 14 40 -72 20 1 0 0 0 1 0 0 0 1 3010.dat\n";
+  const auto one_pin = model("one-pin.ldr", stack + arm + pin);
+  json one = check(one_pin, 1);
+  EXPECT_EQ(one["status"], "no equilibrium");
+  EXPECT_EQ(one["components"], 1);
+  ASSERT_EQ(one["technic_joints"].size(), 2u);
+  EXPECT_EQ(one["technic_joints"][0]["kind"], "turns");
+  ASSERT_EQ(one["turning"].size(), 2u) << one["turning"];
+  EXPECT_NEAR(one["turning"][0]["moment_gf_stud"].get<double>(), 1.74 * 2, 1e-3);
+  EXPECT_EQ(one["turning"][0]["b"]["part"], "3673");
+  const auto text = run_tool("brickcheck", {"--ldraw-dir", library(), one_pin.string()});
+  EXPECT_NE(text.out.find("no equilibrium: 2 joints turn and must not"), std::string::npos)
+      << text.out;
+  // The pair doubled, a pin through each level: the arm's pair cannot turn.
+  json two = check(model("two-pins.ldr", stack + pin +
+                                             "1 4 0 -72 0 1 0 0 0 1 0 0 0 1 3700.dat\n"
+                                             "1 1 0 -72 20 1 0 0 0 1 0 0 0 1 3700.dat\n"
+                                             "1 7 0 -62 10 0 0 1 0 1 0 -1 0 0 3673.dat\n"
+                                             "1 14 40 -96 20 1 0 0 0 1 0 0 0 1 3010.dat\n"),
+                   0);
+  EXPECT_EQ(two["technic_joints"].size(), 4u);
+  EXPECT_TRUE(two["turning"].empty());
+  // One friction pin: it holds 5 gf·stud, the arm needs 3.48; its grip is a friction in C_M.
+  json friction = check(
+      model("friction-pin.ldr", stack + arm + "1 7 0 -38 10 0 0 1 0 1 0 -1 0 0 4459.dat\n"), 0);
+  EXPECT_NEAR(friction["cm_gf"].get<double>(), 71.658 * (1 - 1.74 * 2 / 5), 1e-3);
+  EXPECT_EQ(friction["weakest"][0]["b"]["part"], "4459");
+}
+
 // A hinge between two walls: the base half takes the lower wall's studs in its cells and is
 // analysed; the top half, without cells of its own, is carried, and where it touches the base
 // and the upper wall it is an assumed-rigid joint, listed with its line, that holds the wall up.

@@ -572,20 +572,20 @@ TEST(Legolize, TheBunnyConvertsAndBrickcheckAgrees) {
   EXPECT_NEAR(brickcheck_cm({"--json", out.string()}), r["cm_gf_final"].get<double>(), 1e-4);
 }
 
-// The table's top is built outwards from its legs, and with --min-cm 54 some of those steps fall
+// The table's top is built outwards from its legs, and with --min-cm 56 some of those steps fall
 // as the layers come: bricks are held back a step until what balances them is there.
 TEST(Legolize, BricksAreHeldBackUntilTheirStepStands) {
-  auto out = scratch("table54.mpd"), report = scratch("table54.json");
+  auto out = scratch("table56.mpd"), report = scratch("table56.json");
   auto run =
       run_tool("legolize", {sample("table.obj").string(), "--scale", "1", "--load-top", "300",
-                            "--min-cm", "54", "-o", out.string(), "--report", report.string()});
+                            "--min-cm", "56", "-o", out.string(), "--report", report.string()});
   ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
   const auto r = read_json(report);
   EXPECT_GT(r["held_back"].get<int>(), 0);
   EXPECT_TRUE(r["steps_stand"].get<bool>());
-  EXPECT_GT(r["min_step_cm_gf"].get<double>(), 54);
+  EXPECT_GT(r["min_step_cm_gf"].get<double>(), 56);
   EXPECT_EQ(
-      run_tool("brickcheck", {"--steps", "--min-cm", "54", "--quiet", out.string()}).exit_code, 0);
+      run_tool("brickcheck", {"--steps", "--min-cm", "56", "--quiet", out.string()}).exit_code, 0);
 }
 
 // Steps that cannot all stand are named, with why.

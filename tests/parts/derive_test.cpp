@@ -116,10 +116,41 @@ TEST(DerivePart, PartsWhoseConnectionsAreNotModelledAreCarried) {
   EXPECT_NE(derived(shared_library(), "3626b").carried_reason.find("minifigure"),
             std::string::npos);
   EXPECT_NE(derived(shared_library(), "3641").carried_reason.find("tyre"), std::string::npos);
-  EXPECT_NE(derived(shared_library(), "3855").carried_reason.find("no studs or receptacles"),
+  EXPECT_NE(derived(shared_library(), "3855").carried_reason.find("no studs, receptacles"),
             std::string::npos);
   // A plate that holds wheels is a plate.
   EXPECT_TRUE(derived(shared_library(), "2926").carried_reason.empty());
+}
+
+// Technic holes, pins and axles from their primitives: a pin's two halves (connect.dat) one pin,
+// a hole's two end rings (peghole.dat) one hole through the brick, an axle (axle.dat) as long as
+// it is scaled. Parts held by nothing else are analysed through them.
+TEST(DerivePart, TechnicHolesPinsAndAxles) {
+  SKIP_WITHOUT_SHARED();
+  auto shafts = [](const char* part) { return derived(shared_library(), part).type.shape.shafts; };
+  const auto pin = shafts("3673");
+  ASSERT_EQ(pin.size(), 1u);
+  EXPECT_EQ(pin[0].kind, Shaft::Kind::Pin);
+  EXPECT_EQ(pin[0].a, (Vec3{-20, 0, 0}));
+  EXPECT_EQ(pin[0].b, (Vec3{20, 0, 0}));
+  EXPECT_EQ(shafts("4459").at(0).kind, Shaft::Kind::FrictionPin);
+  const auto brick = shafts("3700");
+  ASSERT_EQ(brick.size(), 1u);
+  EXPECT_EQ(brick[0].kind, Shaft::Kind::PinHole);
+  EXPECT_EQ(brick[0].a, (Vec3{0, 10, -10}));
+  EXPECT_EQ(brick[0].b, (Vec3{0, 10, 10}));
+  const auto axle = shafts("3705");
+  ASSERT_EQ(axle.size(), 1u);
+  EXPECT_EQ(axle[0].kind, Shaft::Kind::Axle);
+  EXPECT_EQ(axle[0].a, (Vec3{-40, 0, 0}));
+  EXPECT_EQ(axle[0].b, (Vec3{40, 0, 0}));
+  const auto liftarm = shafts("6632");  // 3 x 0.5: axle holes at its ends, pin holes between
+  ASSERT_EQ(liftarm.size(), 5u);
+  int axle_holes = 0;
+  for (const Shaft& s : liftarm) axle_holes += s.kind == Shaft::Kind::AxleHole;
+  EXPECT_EQ(axle_holes, 2);
+  EXPECT_TRUE(derived(shared_library(), "3673").carried_reason.empty());
+  EXPECT_TRUE(derived(shared_library(), "6632").carried_reason.empty());
 }
 
 // Written here, without ../shared: the test library of tests/data (tests/data/make_library.py).
