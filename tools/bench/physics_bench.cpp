@@ -23,9 +23,11 @@ struct Candidate {
   double t_gf;
 };
 
+// The paper's support force is one per contact (its analysis is in 2D): no twist about the knobs.
+// StableLego's knob presses and BrickSim's in-plane fields are per knob or point: they hold one.
 const Candidate kCandidates[] = {
     {"this model", {.knob_balance = true, .push_at_knobs = false}, 71.658},
-    {"paper", {.knob_balance = false, .push_at_knobs = false}, 71.658},
+    {"paper", {.knob_balance = false, .push_at_knobs = false, .knobs_hold_twist = false}, 71.658},
     {"StableLego", {.knob_balance = false, .push_at_knobs = true}, 100},
     {"BrickSim", {.knob_balance = false, .push_at_knobs = true}, 71.43},
     {"balance+knobs", {.knob_balance = true, .push_at_knobs = true}, 71.658},
