@@ -2,6 +2,7 @@
 // What the physics needs to know of a part, in the part's own LDraw frame (LDU, -y up, origin
 // where the part file has it): its studs, its receptacles and its body (PHYSICS.md "Parts").
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -47,6 +48,14 @@ struct Shaft {
   Kind kind = Kind::PinHole;
   Vec3 a{0, 0, 0}, b{0, 0, 0};
   bool hole() const { return kind == Kind::PinHole || kind == Kind::AxleHole; }
+  // The axis it lies along (0, 1, 2): the one its two ends differ on most.
+  int axis() const {
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (std::abs(a[size_t(k)] - b[size_t(k)]) > std::abs(a[size_t(axis)] - b[size_t(axis)]))
+        axis = k;
+    return axis;
+  }
 };
 
 struct PartShape {

@@ -190,11 +190,7 @@ std::vector<Shaft> joined_shafts(std::vector<Shaft> drawn) {
   };
   std::vector<Key> keys;
   for (const Shaft& s : drawn) {
-    int axis = 0;
-    for (int k = 1; k < 3; ++k)
-      if (std::abs(s.a[size_t(k)] - s.b[size_t(k)]) >
-          std::abs(s.a[size_t(axis)] - s.b[size_t(axis)]))
-        axis = k;
+    const int axis = s.axis();
     const int u = (axis + 1) % 3, v = (axis + 2) % 3;
     auto grid = [](double x) { return std::round(x * 4) / 4; };
     keys.push_back({s.kind, axis, grid(s.a[size_t(u)]), grid(s.a[size_t(v)]),

@@ -788,11 +788,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
   {
     using Line = std::tuple<int, int64_t, int64_t, int>;  // axis, the line across it, frame
     auto line_of = [&](const Shaft& s, int brick, int64_t du, int64_t dv) -> std::pair<Line, int> {
-      int axis = 0;
-      for (int k = 1; k < 3; ++k)
-        if (std::abs(s.a[size_t(k)] - s.b[size_t(k)]) >
-            std::abs(s.a[size_t(axis)] - s.b[size_t(axis)]))
-          axis = k;
+      const int axis = s.axis();
       const int u = (axis + 1) % 3, v = (axis + 2) % 3;
       return {{axis, std::llround(s.a[size_t(u)]) + du, std::llround(s.a[size_t(v)]) + dv,
                frame_of(brick)},
