@@ -111,8 +111,9 @@ std::optional<std::vector<int>> unbalanced_bodies(const EquilibriumSystem& sys,
 // With no equilibrium, the joints that turn and must not: the model analysed with them holding a
 // moment about their axis as well, friction unlimited, the least total such moment (each column
 // split by sign, priced 1). None when even that does not stand: what fails is elsewhere.
-std::vector<std::pair<int, double>> turning_joints(const Assembly& a, const StabilityResult& r,
-                                                   const StabilityOptions& o, double max_seconds) {
+std::vector<std::pair<int, double>> turning_of(const Assembly& a, const StabilityResult& r,
+                                               const StabilityOptions& o) {
+  if (r.status != StabilityStatus::NoEquilibrium) return {};
   if (std::none_of(r.graph.shaft_joints.begin(), r.graph.shaft_joints.end(), [&](int k) {
         return r.graph.contacts[size_t(k)].joint_kind == Contact::Kind::Turns;
       }))
@@ -128,7 +129,7 @@ std::vector<std::pair<int, double>> turning_joints(const Assembly& a, const Stab
       negated.emplace_back(sys.row_index[size_t(k)], -sys.value[size_t(k)]);
     lp.add_column(0, kInfinity, 1, negated);
   }
-  const LpSolution s = solve_lp(lp, LpMethod::DualSimplex, true, true, max_seconds);
+  const LpSolution s = solve_lp(lp, LpMethod::DualSimplex, true, true, o.max_seconds);
   if (s.outcome != LpOutcome::Optimal) return {};
   std::map<int, double> by_contact;
   for (size_t t = 0; t < sys.turning_columns.size(); ++t) {
@@ -389,6 +390,11 @@ bool decided(StabilityStatus status) {
   return status != StabilityStatus::IterationLimit && status != StabilityStatus::NumericalTrouble;
 }
 
+std::vector<std::pair<int, double>> turning_joints(const Assembly& a, const StabilityResult& r,
+                                                   const StabilityOptions& o) {
+  return turning_of(a, r, o);
+}
+
 StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) {
   StabilityResult r;
   auto start = std::chrono::steady_clock::now();
@@ -427,8 +433,7 @@ StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) 
   else
     solve_max_min(sys, o, r);
   r.stats.solve_seconds = seconds_since(start);
-  if (r.status == StabilityStatus::NoEquilibrium)
-    r.turning = turning_joints(a, r, o, o.max_seconds);
+  if (o.diagnose_turning) r.turning = turning_of(a, r, o);
   if (o.brick_capacity && r.status == StabilityStatus::Solved) {
     start = std::chrono::steady_clock::now();
     brick_capacity(a, sys, o, r);

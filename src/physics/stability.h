@@ -49,6 +49,9 @@ struct StabilityOptions {
   // Carried parts and parts of two lattices that touch tie what they touch rigidly; false: they
   // tie nothing (ContactGraph::build), as brickcheck --strict checks a verdict without them.
   bool assumed_joints = true;
+  // With no equilibrium, name the joints that turn and must not (turning_joints): a second LP
+  // as large as the first, so a caller that analyses again (report/audit.cpp) asks once, last.
+  bool diagnose_turning = true;
 };
 
 // A pair of bricks whose friction points bind at the optimum, with its share of the duals.
@@ -106,5 +109,10 @@ struct StabilityResult {
 // The paper's force-based analysis (section 6, PHYSICS.md): connectivity first, then the LP over
 // everything that reaches the ground.
 StabilityResult analyze_stability(const Assembly& assembly, const StabilityOptions& options = {});
+// With no equilibrium, the joints that turn and must not, each with the least moment about its
+// axis it would have to hold (gf·stud · g): none when even joints that hold do not stand.
+std::vector<std::pair<int, double>> turning_joints(const Assembly& assembly,
+                                                   const StabilityResult& result,
+                                                   const StabilityOptions& options);
 
 }  // namespace lego::physics

@@ -586,15 +586,18 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
   audit.load_notes = apply_loads(audit, options.loads);
   // The report's times are the run's: an analysis that named parts to carry often costs the most
   // (its diagnosis: the carriage house 3.2 s of 4.6).
+  physics::StabilityOptions stability = with_capacity(options.stability, options.brick_capacity);
+  stability.diagnose_turning = false;  // once, of the last analysis
   auto analyse = [&] {
     const physics::LpStats before = audit.stability.stats;
-    audit.stability = physics::analyze_stability(
-        audit.conversion.assembly, with_capacity(options.stability, options.brick_capacity));
+    audit.stability = physics::analyze_stability(audit.conversion.assembly, stability);
     if (audit.analyses++ > 0) add_times(audit.stability.stats, before);
   };
   analyse();
   if (carry_tilted_unbalanced(audit)) analyse();
   if (carry_resting_unbalanced(audit)) analyse();
+  audit.stability.turning =
+      physics::turning_joints(audit.conversion.assembly, audit.stability, stability);
   audit.verdict = verdict_of(audit.stability, options.min_cm_gf);
   if (options.steps) {
     int last = 0;
