@@ -43,11 +43,14 @@ struct Box {
 // A Technic connection of a part (docs/physics.md, "Joints"): a hole a pin or an axle goes
 // through, or a pin or an axle, along one of the part's axes from `a` to `b` (LDU).
 struct Shaft {
-  // A friction pin's ridges grip its hole: it turns, but holds a little (docs/physics.md).
-  enum class Kind : uint8_t { PinHole, AxleHole, Pin, FrictionPin, Axle };
+  // A friction pin's ridges grip its hole: it turns, but holds a little (docs/physics.md). A
+  // knuckle is a hinge or turntable half's round surface on its turning line; a locking hinge's
+  // knuckles click in place and hold.
+  enum class Kind : uint8_t { PinHole, AxleHole, Pin, FrictionPin, Axle, Knuckle, LockingKnuckle };
   Kind kind = Kind::PinHole;
   Vec3 a{0, 0, 0}, b{0, 0, 0};
   bool hole() const { return kind == Kind::PinHole || kind == Kind::AxleHole; }
+  bool knuckle() const { return kind == Kind::Knuckle || kind == Kind::LockingKnuckle; }
   // The axis it lies along (0, 1, 2): the one its two ends differ on most.
   int axis() const {
     int axis = 0;
@@ -60,7 +63,7 @@ struct Shaft {
 
 struct PartShape {
   std::vector<Connector> studs, receptacles;
-  std::vector<Shaft> shafts;  // Technic holes, pins and axles
+  std::vector<Shaft> shafts;  // Technic holes, pins and axles; a hinge's knuckles
   // Receptacles inside the tubes between four cells (stud4.dat), half a stud off the cells: where
   // a jumper plate's offset stud goes. Not cells: the ground's studs never reach them.
   std::vector<Connector> bores;

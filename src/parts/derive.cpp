@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <tuple>
 
 #include "core/lattice.h"
@@ -218,6 +219,31 @@ std::vector<Shaft> joined_shafts(std::vector<Shaft> drawn) {
     i = j;
   }
   return out;
+}
+
+// A hinge or turntable half turns about a line its round surfaces share with its other half: its
+// knuckles are its cylinder primitives, on every line they cover 2 LDU or more of (a hinge
+// plate's finger is rounded on the line of its pin and on another; which one is the pin's, only
+// the other half tells: contact_graph.cpp joins two halves on a line they share). A locking
+// hinge clicks in place: its knuckles hold.
+std::vector<Shaft> knuckles(const PartGeometry& g) {
+  using Line = std::tuple<int, double, double>;
+  auto line_of = [](const Shaft& s) {
+    const int axis = s.axis();
+    auto grid = [](double x) { return std::round(x * 4) / 4; };
+    return Line{axis, grid(s.a[size_t((axis + 1) % 3)]), grid(s.a[size_t((axis + 2) % 3)])};
+  };
+  std::map<Line, double> cover;
+  for (const Shaft& s : g.rounds)
+    cover[line_of(s)] += std::abs(s.a[size_t(s.axis())] - s.b[size_t(s.axis())]);
+  const bool locking = g.title.find("Locking") != std::string::npos;
+  std::vector<Shaft> kept;
+  for (Shaft s : g.rounds)
+    if (cover[line_of(s)] >= 2) {  // slivers are no finger
+      s.kind = locking ? Shaft::Kind::LockingKnuckle : Shaft::Kind::Knuckle;
+      kept.push_back(s);
+    }
+  return joined_shafts(std::move(kept));
 }
 
 }  // namespace
@@ -443,6 +469,8 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   t.shape.outline = outline(g);
   t.baseplate = g.category == "Baseplate" || g.title.starts_with("Baseplate");
   t.pivots = first_word(g) == "Hinge" || first_word(g) == "Turntable";
+  if (t.pivots)
+    for (const Shaft& s : knuckles(g)) t.shape.shafts.push_back(s);
   if (t.shape.body.empty()) {
     // Nothing but studs: a box around them keeps its weight somewhere.
     k.carried_reason = "its file draws no body";
@@ -468,7 +496,10 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   // a hinge half or a turntable base is held by its studs, and what hangs on its hinge or turns
   // on it is carried where its own studs meet nothing that stands (report/audit.cpp). Minifigure
   // parts are carried whatever their cells (PHYSICS.md): a head's cell takes a neck.
-  if (k.carried_reason.empty() && (t.shape.receptacles.empty() || minifigure(g)))
+  const bool turns_on_knuckles = std::any_of(t.shape.shafts.begin(), t.shape.shafts.end(),
+                                             [](const Shaft& s) { return s.knuckle(); });
+  if (k.carried_reason.empty() && (t.shape.receptacles.empty() || minifigure(g)) &&
+      !(turns_on_knuckles && !minifigure(g)))
     k.carried_reason = carried_by_name(g);
   if (k.carried_reason.empty() && t.shape.studs.empty() && t.shape.receptacles.empty() &&
       t.shape.shafts.empty())

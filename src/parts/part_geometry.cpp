@@ -94,6 +94,18 @@ std::optional<Shaft::Kind> shaft_primitive(std::string_view b) {
   return std::nullopt;
 }
 
+bool is_cylinder_primitive(std::string_view b) {
+  if (b.empty() || !std::isdigit(static_cast<unsigned char>(b.front())) || !b.ends_with(".dat"))
+    return false;
+  const auto dash = b.find('-');
+  if (dash == std::string_view::npos) return false;
+  const std::string_view shape = b.substr(dash + 1);
+  const auto cyl = shape.find("cyl");
+  return cyl != std::string_view::npos && shape.size() > cyl + 3 &&
+         (shape[cyl + 3] == 'i' || shape[cyl + 3] == 'o' || shape[cyl + 3] == 'c') &&
+         shape.substr(cyl + 4) == ".dat";
+}
+
 std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
                                                            const FileFinder& find,
                                                            std::string& why) {
@@ -197,21 +209,27 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
       g->faces.push_back(
           {{transformed(t, tri.p[0]), transformed(t, tri.p[1]), transformed(t, tri.p[2])}});
     // A Technic primitive is one shaft along its y axis, as long as it draws; what it is drawn
-    // with is not another.
-    auto take_shaft = [&](const Shaft& s) {
+    // with is not another. A cylinder primitive's axis is its y from 0 to 1, its radius its x.
+    auto take = [&](std::vector<Shaft>& into, const Shaft& s) {
       const Vec3 a = transformed(t, s.a), b = transformed(t, s.b);
       int axes = 0;
       for (int k = 0; k < 3; ++k) axes += std::abs(a[size_t(k)] - b[size_t(k)]) > 1e-3;
-      if (axes == 1) g->shafts.push_back({s.kind, a, b});
+      if (axes == 1) into.push_back({s.kind, a, b});
     };
+    if (is_cylinder_primitive(base)) {
+      if (std::hypot(t.rot[0], t.rot[3], t.rot[6]) >= 2)
+        take(g->rounds, {Shaft::Kind::Knuckle, {0, 0, 0}, {0, 1, 0}});
+    } else if (!base.starts_with("stud") && !shaft_primitive(base)) {
+      for (const Shaft& s : sub->rounds) take(g->rounds, s);
+    }
     if (const auto kind = shaft_primitive(base)) {
       double lo = 1e300, hi = -1e300;
       for (const Triangle& tri : sub->faces)
         for (const Vec3& p : tri.p) lo = std::min(lo, p[1]), hi = std::max(hi, p[1]);
       if (hi - lo < 1e-3) lo = 0, hi = 1;  // drawn flat: a unit length, as its scale gives
-      take_shaft({*kind, {0, lo, 0}, {0, hi, 0}});
+      take(g->shafts, {*kind, {0, lo, 0}, {0, hi, 0}});
     } else {
-      for (const Shaft& s : sub->shafts) take_shaft(s);
+      for (const Shaft& s : sub->shafts) take(g->shafts, s);
     }
     for (const Connector& s : sub->studs) {
       // The stud's axis turned by t: its direction as a unit vector through the rotation.

@@ -31,6 +31,10 @@ struct PartGeometry {
   // Technic hole, pin and axle primitives along one of the axes, each as drawn (a pin hole's end
   // rings, a pin's halves: derive.cpp joins them); those at other angles are left out.
   std::vector<Shaft> shafts;
+  // Cylinder primitives (…cyli, …cylo, …cylc) at least 2 LDU in radius along one of the axes, as
+  // Knuckle shafts: where a hinge half may turn (derive.cpp keeps them for hinges only). Those
+  // inside stud and tube primitives are left out.
+  std::vector<Shaft> rounds;
   std::string title;                 // the file's first line, "~Moved to" followed
   std::string category;              // !CATEGORY, or the title's first word
   std::vector<std::string> missing;  // subfiles not found, each name once, sorted

@@ -782,60 +782,94 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
     }
     add_contact(c);
   }
-  // Technic joints (docs/physics.md, "Joints"): a pin or an axle of one part on the line of
-  // another's hole, within a LDU of it and overlapping it, joins the two, on one lattice. An
-  // axle in an axle hole holds every way; anything else turns about the line.
+  // Technic and hinge joints (docs/physics.md, "Joints"): a pin or an axle of one part on the line
+  // of another's hole, within a LDU of it and overlapping it, joins the two; so do two hinge
+  // halves' knuckles on one line that overlap or interleave (fingers between fingers). An axle in
+  // an axle hole and a locking hinge hold every way; anything else turns about the line. Lines
+  // along the model's axes are compared in the model's frame, so a hinge half turned on its own
+  // lattice meets its other half; others within one lattice.
+  std::set<std::pair<int, int>> shaft_joined;
   {
-    using Line = std::tuple<int, int64_t, int64_t, int>;  // axis, the line across it, frame
-    auto line_of = [&](const Shaft& s, int brick, int64_t du, int64_t dv) -> std::pair<Line, int> {
-      const int axis = s.axis();
-      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-      return {{axis, std::llround(s.a[size_t(u)]) + du, std::llround(s.a[size_t(v)]) + dv,
-               frame_of(brick)},
-              axis};
+    struct Placed {
+      int brick;
+      const Shaft* shaft;
+      Vec3 a, b;  // in the model's frame, or in the brick's lattice when `frame` >= 0
+      int axis, frame;
     };
-    std::map<Line, std::vector<std::pair<int, const Shaft*>>> holes;
+    using Line = std::tuple<int, int64_t, int64_t, int>;  // axis, the line across it, frame
+    auto place = [&](int brick, const Shaft& s) {
+      Placed p{
+          brick, &s, to_model(a.bricks[size_t(brick)], s.a), to_model(a.bricks[size_t(brick)], s.b),
+          0,     -1};
+      int moved = 0;
+      for (int k = 0; k < 3; ++k)
+        if (std::abs(p.a[size_t(k)] - p.b[size_t(k)]) > 1e-3) ++moved, p.axis = k;
+      if (moved != 1)  // turned off the model's axes: compared within its own lattice
+        p.a = s.a, p.b = s.b, p.axis = s.axis(), p.frame = frame_of(brick);
+      return p;
+    };
+    auto line_of = [](const Placed& p, int64_t du, int64_t dv) {
+      const int u = (p.axis + 1) % 3, v = (p.axis + 2) % 3;
+      return Line{p.axis, std::llround(p.a[size_t(u)]) + du, std::llround(p.a[size_t(v)]) + dv,
+                  p.frame};
+    };
+    std::map<Line, std::vector<Placed>> receivers;  // holes and knuckles
+    std::vector<Placed> inserted;                   // pins, axles and knuckles
     for (int i = 0; i < n; ++i)
-      for (const Shaft& s : shapes[size_t(i)].shafts)
-        if (s.hole()) holes[line_of(s, i, 0, 0).first].emplace_back(i, &s);
+      for (const Shaft& s : shapes[size_t(i)].shafts) {
+        const Placed p = place(i, s);
+        if (s.hole() || s.knuckle()) receivers[line_of(p, 0, 0)].push_back(p);
+        if (!s.hole()) inserted.push_back(p);
+      }
     struct Fit {
       double lo = 1e300, hi = -1e300;
-      bool holds = false, friction = false;
-      int axis = 0;
-      Vec3 on_line{0, 0, 0};
+      bool overlaps = false, holds = false, friction = false;
+      int abutting = 0;  // knuckle ends meeting end to end: two when fingers interleave
+      const Placed* on = nullptr;
+      Line line{};
     };
     std::map<std::pair<int, int>, Fit> fits;  // (part with the hole, part with the shaft)
-    if (!holes.empty())
-      for (int j = 0; j < n; ++j)
-        for (const Shaft& s : shapes[size_t(j)].shafts) {
-          if (s.hole()) continue;
-          for (int64_t du = -1; du <= 1; ++du)
-            for (int64_t dv = -1; dv <= 1; ++dv) {
-              const auto [line, axis] = line_of(s, j, du, dv);
-              auto it = holes.find(line);
-              if (it == holes.end()) continue;
-              for (const auto& [i, hole] : it->second) {
-                if (i == j || (g.fixed[size_t(i)] && g.fixed[size_t(j)])) continue;
-                const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-                if (std::hypot(hole->a[size_t(u)] - s.a[size_t(u)],
-                               hole->a[size_t(v)] - s.a[size_t(v)]) > kCarriedReach)
-                  continue;
-                const double lo = std::max(std::min(hole->a[size_t(axis)], hole->b[size_t(axis)]),
-                                           std::min(s.a[size_t(axis)], s.b[size_t(axis)]));
-                const double hi = std::min(std::max(hole->a[size_t(axis)], hole->b[size_t(axis)]),
-                                           std::max(s.a[size_t(axis)], s.b[size_t(axis)]));
-                if (hi - lo < kMinFace) continue;
-                Fit& f = fits[{i, j}];
-                f.lo = std::min(f.lo, lo), f.hi = std::max(f.hi, hi);
-                f.holds =
-                    f.holds || (s.kind == Shaft::Kind::Axle && hole->kind == Shaft::Kind::AxleHole);
-                f.friction = f.friction || s.kind == Shaft::Kind::FrictionPin;
-                f.axis = axis;
-                f.on_line = hole->a;
-              }
+    if (!receivers.empty())
+      for (const Placed& s : inserted)
+        for (int64_t du = -1; du <= 1; ++du)
+          for (int64_t dv = -1; dv <= 1; ++dv) {
+            auto it = receivers.find(line_of(s, du, dv));
+            if (it == receivers.end()) continue;
+            for (const Placed& r : it->second) {
+              const int i = r.brick, j = s.brick;
+              if (i == j || (g.fixed[size_t(i)] && g.fixed[size_t(j)])) continue;
+              if (r.shaft->knuckle() != s.shaft->knuckle() || (s.shaft->knuckle() && i > j))
+                continue;
+              const int axis = s.axis, u = (axis + 1) % 3, v = (axis + 2) % 3;
+              if (std::hypot(r.a[size_t(u)] - s.a[size_t(u)], r.a[size_t(v)] - s.a[size_t(v)]) >
+                  kCarriedReach)
+                continue;
+              const double lo = std::max(std::min(r.a[size_t(axis)], r.b[size_t(axis)]),
+                                         std::min(s.a[size_t(axis)], s.b[size_t(axis)]));
+              const double hi = std::min(std::max(r.a[size_t(axis)], r.b[size_t(axis)]),
+                                         std::max(s.a[size_t(axis)], s.b[size_t(axis)]));
+              const bool knuckles = s.shaft->knuckle();
+              if (hi - lo < (knuckles ? -kTouch : kMinFace)) continue;
+              Fit& f = fits[{i, j}];
+              f.lo = std::min(f.lo, lo), f.hi = std::max(f.hi, hi);
+              if (hi - lo >= kMinFace)
+                f.overlaps = true;
+              else
+                ++f.abutting;
+              const auto kind = s.shaft->kind, other = r.shaft->kind;
+              // Two halves joined on two lines cannot turn about either.
+              const bool second_line = f.on && line_of(r, 0, 0) != f.line;
+              f.holds = f.holds || (kind == Shaft::Kind::Axle && other == Shaft::Kind::AxleHole) ||
+                        (kind == Shaft::Kind::LockingKnuckle && other == kind) ||
+                        (knuckles && second_line);
+              f.line = line_of(r, 0, 0);
+              f.friction = f.friction || kind == Shaft::Kind::FrictionPin;
+              f.on = &r;
             }
-        }
+          }
     for (auto& [pair, f] : fits) {
+      // Two hinge halves end to end in a row meet at one end; interleaved fingers at two.
+      if (!f.overlaps && f.abutting < 2) continue;
       const auto [i, j] = pair;
       Contact c;
       c.lower = g.fixed[size_t(j)] ? j : i;
@@ -843,13 +877,14 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
       c.joint = true;
       c.joint_kind = f.holds ? Contact::Kind::Holds : Contact::Kind::Turns;
       c.joint_friction = f.friction;
-      Vec3 mid = f.on_line;
-      mid[size_t(f.axis)] = (f.lo + f.hi) / 2;
-      c.joint_point = to_model(a.bricks[size_t(i)], mid);
-      Vec3 axis{0, 0, 0};
-      axis[size_t(f.axis)] = 1;
-      c.joint_axis = to_model_direction(a.bricks[size_t(i)], axis);
+      Vec3 mid = f.on->a, axis{0, 0, 0};
+      mid[size_t(f.on->axis)] = (f.lo + f.hi) / 2;
+      axis[size_t(f.on->axis)] = 1;
+      const Brick& on = a.bricks[size_t(f.on->brick)];
+      c.joint_point = f.on->frame < 0 ? mid : to_model(on, mid);
+      c.joint_axis = f.on->frame < 0 ? axis : to_model_direction(on, axis);
       g.shaft_joints.push_back(add_contact(c));
+      shaft_joined.insert({std::min(i, j), std::max(i, j)});
     }
   }
   // Assumed-rigid joints, after every other contact: each group ties the bricks it joins along
@@ -892,29 +927,42 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
           best[k] = distance(joins[next], joins[k]), link[k] = next;
     }
   }
-  // Where parts of two lattices touch (a turned stand on its base), nothing tells how they hold:
-  // they are joined as a carried part joins what it touches (README "What it analyses", turned
-  // lattices).
-  if (any_turned && assumed_joints) {
-    std::vector<std::pair<int, int>> pairs;
+  // Where parts of two lattices touch (a turned stand on its base), or two hinge or turntable
+  // halves touch without a line they share (a hinge whose fingers' primitives are not
+  // cylinders), nothing tells how they hold: they are joined as a carried part joins what it
+  // touches (README "What it analyses").
+  if (assumed_joints) {
+    auto pivots = [&](int i) { return a.bricks[size_t(i)].type->pivots; };
+    std::set<std::pair<int, int>> lattice_pairs, pivot_pairs, snapped;
+    for (const Contact& c : g.contacts)
+      if (c.snap()) snapped.insert({std::min(c.lower, c.upper), std::max(c.lower, c.upper)});
     for (int id = 0; id < int(box_owner.size()); ++id) {
       const int i = box_owner[size_t(id)].first;
-      if (!a.bricks[size_t(i)].frame) continue;
+      if (!a.bricks[size_t(i)].frame && !pivots(i)) continue;
       const OrientedBox o = model_box(id);
       near_in_model(o.bounds(), kCarriedReach, [&](int other) {
         const int j = box_owner[size_t(other)].first;
-        if (frame_of(j) == frame_of(i) || (g.fixed[size_t(i)] && g.fixed[size_t(j)])) return;
-        // Once per pair: from the turned one when only one is, else from the lower frame id.
-        if (a.bricks[size_t(j)].frame && frame_of(j) < frame_of(i)) return;
-        // Snapped to each other, they hold by their studs.
-        if (snapped_across.count({std::min(i, j), std::max(i, j)})) return;
-        if (touch(o, model_box(other), kCarriedReach))
-          pairs.emplace_back(std::min(i, j), std::max(i, j));
+        const std::pair<int, int> pair{std::min(i, j), std::max(i, j)};
+        if (i == j || (g.fixed[size_t(i)] && g.fixed[size_t(j)])) return;
+        const bool across = frame_of(j) != frame_of(i) && a.bricks[size_t(i)].frame;
+        // Once per pair across lattices: from the turned one when only one is, else from the
+        // lower frame id.
+        if (across && a.bricks[size_t(j)].frame && frame_of(j) < frame_of(i)) return;
+        // Two halves of one hinge are two parts: the same part side by side in a row is none.
+        const bool halves =
+            pivots(i) && pivots(j) && a.bricks[size_t(i)].type != a.bricks[size_t(j)].type;
+        if (!across && !halves) return;
+        // Snapped to each other, they hold by their studs; joined, by their joint.
+        if (snapped_across.count(pair) || shaft_joined.count(pair)) return;
+        if (!touch(o, model_box(other), kCarriedReach)) return;
+        if (across)
+          lattice_pairs.insert(pair);
+        else if (!snapped.count(pair))
+          pivot_pairs.insert(pair);
       });
     }
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    for (auto [x, y] : pairs) {
+    auto join = [&](std::pair<int, int> pair, std::vector<int>& into) {
+      const auto [x, y] = pair;
       Contact c;
       // The ground's part, where one is, below: its side has no equations.
       c.lower = g.fixed[size_t(y)] ? y : x;
@@ -923,8 +971,10 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
       const Vec3 cx = body_centre(a.bricks[size_t(x)]), cy = body_centre(a.bricks[size_t(y)]);
       for (int ax = 0; ax < 3; ++ax)
         c.joint_point[size_t(ax)] = (cx[size_t(ax)] + cy[size_t(ax)]) / 2;
-      g.lattice_joints.push_back(add_contact(c));
-    }
+      into.push_back(add_contact(c));
+    };
+    for (const auto& pair : lattice_pairs) join(pair, g.lattice_joints);
+    for (const auto& pair : pivot_pairs) join(pair, g.pivot_joints);
   }
   return g;
 }

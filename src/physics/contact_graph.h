@@ -100,6 +100,9 @@ struct ContactGraph {
   // The assumed-rigid joints where parts of two lattices touch (README "What it analyses", turned
   // lattices): indices into `contacts`.
   std::vector<int> lattice_joints;
+  // The assumed-rigid joints where two hinge or turntable halves touch without a line they share
+  // (no knuckles found on one): indices into `contacts`.
+  std::vector<int> pivot_joints;
   // The Technic joints, a shaft of one part in a hole of another: indices into `contacts`.
   std::vector<int> shaft_joints;
 

@@ -67,7 +67,7 @@ Assumptions assumptions_of(const Audit& a) {
                        describe_brick(a, group.joins.front()))});
     }
   }
-  out.rigid_joints += int(r.graph.lattice_joints.size());
+  out.rigid_joints += int(r.graph.lattice_joints.size() + r.graph.pivot_joints.size());
   return out;
 }
 
@@ -90,6 +90,13 @@ std::vector<Assumption> joint_assumptions(const Audit& a) {
     const auto& c = r.graph.contacts[size_t(k)];
     out.push_back({Assumption::Kind::Joint,
                    fmt::format("{} and {}, on two lattices, touch and are taken as joined rigidly",
+                               describe_brick(a, c.lower), describe_brick(a, c.upper))});
+  }
+  for (int k : r.graph.pivot_joints) {
+    const auto& c = r.graph.contacts[size_t(k)];
+    out.push_back({Assumption::Kind::Joint,
+                   fmt::format("{} and {}, hinge halves without a line they share, touch and are "
+                               "taken as joined rigidly",
                                describe_brick(a, c.lower), describe_brick(a, c.upper))});
   }
   return out;

@@ -105,6 +105,11 @@ std::string render_heatmap(const Audit& a) {
     out += fmt::format("0 // assumed rigid joint where two lattices touch joins {}; {}\n",
                        describe_brick(a, c.lower), describe_brick(a, c.upper));
   }
+  for (int k : r.graph.pivot_joints) {
+    const auto& c = r.graph.contacts[size_t(k)];
+    out += fmt::format("0 // assumed rigid joint where hinge halves touch joins {}; {}\n",
+                       describe_brick(a, c.lower), describe_brick(a, c.upper));
+  }
   auto number = [](double v) {
     std::string s = fmt::format("{:.4f}", v);
     while (s.back() == '0') s.pop_back();

@@ -116,8 +116,10 @@ json render_json(const Audit& a, const AuditOptions& options) {
     for (int b : group.joins) joins.push_back(brick_json(a, b));
     j["joints"].push_back({{"through", through}, {"joins", joins}});
   }
-  // Where two lattices touch, nothing is carried through: "through" is empty.
-  for (int k : r.graph.lattice_joints) {
+  // Where two lattices or two hinge halves touch, nothing is carried through: "through" is empty.
+  std::vector<int> touching = r.graph.lattice_joints;
+  touching.insert(touching.end(), r.graph.pivot_joints.begin(), r.graph.pivot_joints.end());
+  for (int k : touching) {
     const auto& c = r.graph.contacts[size_t(k)];
     j["joints"].push_back(
         {{"through", json::array()},

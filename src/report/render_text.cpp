@@ -145,6 +145,17 @@ std::string render_text(const Audit& a, bool quiet) {
     line("    " + describe_brick(a, c.lower) + " and " + describe_brick(a, c.upper));
   }
   if (lattice.size() > 20) line(fmt::format("    and {} more", lattice.size() - 20));
+  const auto& halves = r.graph.pivot_joints;
+  if (!halves.empty())
+    line(
+        fmt::format("  assumed rigid {} where hinge or turntable halves touch without a line "
+                    "they share:",
+                    plural(halves.size(), "joint")));
+  for (size_t i = 0; i < halves.size() && i < 20; ++i) {
+    const auto& c = r.graph.contacts[size_t(halves[i])];
+    line("    " + describe_brick(a, c.lower) + " and " + describe_brick(a, c.upper));
+  }
+  if (halves.size() > 20) line(fmt::format("    and {} more", halves.size() - 20));
   const auto& c = r.connectivity;
   int grounded = 0;
   for (char g : c.grounded) grounded += g;

@@ -110,9 +110,11 @@ TEST(DerivePart, SlopesRoundPlatesSnotAndBaseplates) {
 
 TEST(DerivePart, PartsWhoseConnectionsAreNotModelledAreCarried) {
   SKIP_WITHOUT_SHARED();
-  // A hinge half with cells is held by its studs; the half without is carried.
+  // A hinge half with cells is held by its studs; the half without turns on its knuckles; one
+  // with neither (a control stick's base: its ball is no cylinder) is carried.
   EXPECT_TRUE(derived(shared_library(), "3937").carried_reason.empty());
-  EXPECT_NE(derived(shared_library(), "3938").carried_reason.find("hinge"), std::string::npos);
+  EXPECT_TRUE(derived(shared_library(), "3938").carried_reason.empty());
+  EXPECT_NE(derived(shared_library(), "4592").carried_reason.find("hinge"), std::string::npos);
   EXPECT_NE(derived(shared_library(), "3626b").carried_reason.find("minifigure"),
             std::string::npos);
   EXPECT_NE(derived(shared_library(), "3641").carried_reason.find("tyre"), std::string::npos);
@@ -151,6 +153,32 @@ TEST(DerivePart, TechnicHolesPinsAndAxles) {
   EXPECT_EQ(axle_holes, 2);
   EXPECT_TRUE(derived(shared_library(), "3673").carried_reason.empty());
   EXPECT_TRUE(derived(shared_library(), "6632").carried_reason.empty());
+}
+
+// A hinge or turntable half's knuckles: its cylinder primitives on the line they cover longest,
+// a finger at a time. Other parts' cylinders are none.
+TEST(DerivePart, HingeAndTurntableKnuckles) {
+  SKIP_WITHOUT_SHARED();
+  auto shafts = [](const char* part) { return derived(shared_library(), part).type.shape.shafts; };
+  const auto top = shafts("3938");  // two fingers on the line along x, 10 LDU below its top
+  ASSERT_EQ(top.size(), 2u);
+  for (const Shaft& s : top) {
+    EXPECT_EQ(s.kind, Shaft::Kind::Knuckle);
+    EXPECT_EQ(s.axis(), 0);
+    EXPECT_EQ(s.a[1], 10);
+    EXPECT_EQ(s.a[2], 0);
+  }
+  EXPECT_EQ(top[0].a[0], -20);
+  EXPECT_EQ(top[1].b[0], 20);
+  const auto base = shafts("3937");
+  EXPECT_EQ(base.size(), 3u);
+  const auto turntable = shafts("3404");  // about its vertical centre line
+  ASSERT_EQ(turntable.size(), 1u);
+  EXPECT_EQ(turntable[0].axis(), 1);
+  EXPECT_EQ(turntable[0].a[0], 0);
+  EXPECT_EQ(turntable[0].a[2], 0);
+  for (const char* round : {"3062b", "3941"})  // round bricks are no hinges
+    for (const Shaft& s : shafts(round)) EXPECT_FALSE(s.knuckle()) << round;
 }
 
 // Written here, without ../shared: the test library of tests/data (tests/data/make_library.py).
