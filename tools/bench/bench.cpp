@@ -254,8 +254,8 @@ void corpus_section(const fs::path& shared, double max_seconds) {
     }
     with_cm += a.stability.status == physics::StabilityStatus::Solved;
     floating += !a.stability.connectivity.all_grounded();
-    judged += a.verdict != report::Verdict::NotJudged &&
-              a.verdict != report::Verdict::NothingToAnalyse;
+    judged +=
+        a.verdict != report::Verdict::NotJudged && a.verdict != report::Verdict::NothingToAnalyse;
     assuming += a.verdict == report::Verdict::Stable && !a.assumptions.summary().empty();
     analysed_mass += a.assumptions.analysed_mass_g;
     carried_mass += a.assumptions.carried_mass_g;
