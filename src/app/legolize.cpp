@@ -29,6 +29,7 @@
 #include "ldraw/reader.h"
 #include "ldraw/writer.h"
 #include "mesh/mesh.h"
+#include "physics/force_model.h"
 #include "report/conversion_report.h"
 #include "report/instructions.h"
 #include "report/parts_list.h"
@@ -81,6 +82,10 @@ layout::VoxelLoad parse_load(const std::string& spec) {
       c2 != ',' || colon != ':' || (in >> extra) || !(load.grams >= 0) ||
       !std::isfinite(load.grams))
     throw InputError("", 0, "--load '" + spec + "': expected X,Y,Z:GRAMS (a voxel and a weight)");
+  if (load.grams > physics::kMaxLoadGrams)
+    throw InputError("", 0,
+                     fmt::format("--load '{}': the weight must be at most {:.0f} grams (a tonne)",
+                                 spec, physics::kMaxLoadGrams));
   return load;
 }
 
@@ -320,7 +325,7 @@ int main(int argc, char** argv) {
       ->check(app::finite_number())
       ->group(g_physics);
   app.add_option("--load-top", load_top, "a weight in grams spread over the model's top knobs")
-      ->check(app::finite_number(app::Sign::NonNegative))
+      ->check(app::finite_number(app::Sign::NonNegative, physics::kMaxLoadGrams))
       ->group(g_physics);
   app.add_option("--load", loads,
                  "X,Y,Z:GRAMS, a weight on the brick at voxel X,Y,Z (Y = layer; repeatable)")

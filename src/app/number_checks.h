@@ -3,6 +3,8 @@
 // be a finite number (CLI11 parses "nan" and "inf" as doubles, and "-1" into an unsigned option
 // as its largest value), and where the option says so, above or at zero; the message says that
 // in words, not as a range to the last representable double.
+#include <fmt/format.h>
+
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <string>
@@ -11,12 +13,14 @@ namespace lego::app {
 
 enum class Sign { Any, NonNegative, Positive };
 
-inline CLI::Validator finite_number(Sign sign = Sign::Any) {
-  const char* words = sign == Sign::Positive      ? "a finite number above 0"
+// With `at_most`, no more than that either.
+inline CLI::Validator finite_number(Sign sign = Sign::Any, double at_most = INFINITY) {
+  std::string words = sign == Sign::Positive      ? "a finite number above 0"
                       : sign == Sign::NonNegative ? "a finite number, 0 or more"
                                                   : "a finite number";
+  if (std::isfinite(at_most)) words += fmt::format(", at most {:.0f}", at_most);
   return CLI::Validator(
-      [sign, words](std::string& text) -> std::string {
+      [sign, words, at_most](std::string& text) -> std::string {
         double v = 0;
         size_t used = 0;
         try {
@@ -24,7 +28,7 @@ inline CLI::Validator finite_number(Sign sign = Sign::Any) {
         } catch (const std::exception&) {
           used = 0;
         }
-        const bool ok = used == text.size() && !text.empty() && std::isfinite(v) &&
+        const bool ok = used == text.size() && !text.empty() && std::isfinite(v) && v <= at_most &&
                         (sign == Sign::Any || (sign == Sign::NonNegative ? v >= 0 : v > 0));
         return ok ? std::string() : "'" + text + "' is not " + words;
       },

@@ -11,6 +11,10 @@ namespace lego::physics {
 // Constants of PHYSICS.md. Forces inside the solver are in g·m/s² (1 g·m/s² = 1 mN).
 inline constexpr double kGravity = 9.8;
 inline constexpr double kMaxFrictionLoad = 71.658 * kGravity;  // T, per contact point
+// The heaviest external weight (grams) the tools take (--load, --load-top): a tonne, far past
+// what any LEGO model carries. C_M stays linear in the load to 1e7 g; at 1e9 g the model's own
+// weight is lost in the solver's rounding and it finds no equilibrium, and at 1e110 Clp aborts.
+inline constexpr double kMaxLoadGrams = 1e6;
 // A joint carries whole parts of a model: its columns count in units of this many times a
 // contact's, so that they stay inside the box the solver puts around free columns (a joint
 // holding 10 N reached 527 of the box's 1,000 on the corpus's shopping centre, and the box was

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/stopwatch.h"
 #include "ldraw/writer.h"
+#include "physics/force_model.h"
 #include "physics/interior_point.h"
 #include "physics/world_shape.h"
 
@@ -511,6 +512,9 @@ LoadSpec parse_load_spec(const std::string& text) {
   if (grams.empty() || ec != std::errc() || p != grams.data() + grams.size() || !std::isfinite(g) ||
       g < 0)
     throw fail("the weight must be a finite number of grams, 0 or more");
+  if (g > physics::kMaxLoadGrams)
+    throw fail(
+        fmt::format("the weight must be at most {:.0f} grams (a tonne)", physics::kMaxLoadGrams));
   spec.grams = g;
   if (target == "top") {
     spec.target = LoadSpec::Target::Top;

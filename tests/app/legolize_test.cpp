@@ -359,6 +359,21 @@ TEST(Legolize, BricksHangingFromTheLayerAboveComeAfterTheirHolders) {
   EXPECT_EQ(run_tool("brickcheck", {"--steps", "--quiet", layered.string()}).exit_code, 1);
 }
 
+// A weight past a tonne is refused before anything is read: the solver's rounding would hide the
+// model's own weight (at 1e110 Clp aborted).
+TEST(Legolize, LoadsPastATonneAreRefused) {
+  auto out = scratch("heavy.ldr");
+  for (const std::vector<std::string>& load :
+       {std::vector<std::string>{"--load-top", "1e7"}, {"--load", "0,0,0:1e110"}}) {
+    std::vector<std::string> args{sample("table.obj").string(), "--scale", "1", "-o", out.string()};
+    args.insert(args.end(), load.begin(), load.end());
+    auto r = run_tool("legolize", args);
+    EXPECT_EQ(r.exit_code, 2) << load[1];
+    EXPECT_NE(r.err.find("at most 1000000"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
 TEST(Legolize, TheRefinementDoesNotDependOnHowManyThreadsTheBlasUses) {
   // The BLAS sums in another order with another thread count; the refinement must not notice.
   auto run = [&](const char* threads, const std::string& name) {
