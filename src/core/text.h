@@ -1,6 +1,6 @@
 #pragma once
 // Text as LDraw and file systems compare it: ASCII case folded, bytes above 127 left as they are
-// (a UTF-8 or Latin-1 name is never changed by it).
+// (a UTF-8 or Latin-1 name is never changed by it); names made safe to print on one line.
 #include <cctype>
 #include <string>
 #include <string_view>
@@ -10,6 +10,15 @@ namespace lego {
 inline std::string ascii_lower(std::string_view text) {
   std::string out(text);
   for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+// A name as one line of a report or an LDraw comment: control characters (a newline in a file
+// name would start a line of its own, even a part line in a heat map) become '?'.
+inline std::string one_line(std::string_view text) {
+  std::string out(text);
+  for (char& c : out)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
   return out;
 }
 

@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/stopwatch.h"
+#include "core/text.h"
 #include "ldraw/writer.h"
 #include "physics/force_model.h"
 #include "physics/interior_point.h"
@@ -542,16 +543,18 @@ std::string describe_brick(const Audit& audit, int brick) {
   const Brick& b = audit.conversion.assembly.bricks[size_t(brick)];
   const auto& pos = audit.model.parts[audit.conversion.brick_part[size_t(brick)]].transform.pos;
   return fmt::format("{}:{} {} {} at ({:g}, {:g}, {:g})",
-                     std::filesystem::path(b.source.file).filename().string(), b.source.line,
-                     b.type->part, audit.model.color_table.name(b.color), pos[0], pos[1], pos[2]);
+                     one_line(std::filesystem::path(b.source.file).filename().string()),
+                     b.source.line, b.type->part, audit.model.color_table.name(b.color), pos[0],
+                     pos[1], pos[2]);
 }
 
 std::string describe_carried(const Audit& audit, int carried) {
   const CarriedPart& c = audit.conversion.assembly.carried[size_t(carried)];
   const auto& pos = audit.model.parts[audit.conversion.carried_part[size_t(carried)]].transform.pos;
   return fmt::format("{}:{} {} {} at ({:g}, {:g}, {:g})",
-                     std::filesystem::path(c.source.file).filename().string(), c.source.line,
-                     c.part, audit.model.color_table.name(c.color), pos[0], pos[1], pos[2]);
+                     one_line(std::filesystem::path(c.source.file).filename().string()),
+                     c.source.line, c.part, audit.model.color_table.name(c.color), pos[0], pos[1],
+                     pos[2]);
 }
 
 int turned_lattice_bricks(const Assembly& assembly) {

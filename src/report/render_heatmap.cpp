@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 
+#include "core/text.h"
 #include "ldraw/writer.h"
 #include "physics/force_model.h"
 #include "report/render.h"
@@ -83,7 +84,7 @@ std::string render_heatmap(const Audit& a) {
     colour[a.conversion.carried_part[size_t(c)]] = kFloating;
 
   const std::string title =
-      "Stability heat map of " + (a.model.title.empty() ? a.file : a.model.title);
+      "Stability heat map of " + one_line(a.model.title.empty() ? a.file : a.model.title);
   std::string out = fmt::format(
       "0 {}\n0 Name: heatmap.ldr\n0 Author: brickcheck\n"
       "0 !LDRAW_ORG Unofficial_Model\n\n",

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 
+#include "core/text.h"
 #include "report/render.h"
 
 namespace lego::report {
@@ -87,7 +88,7 @@ std::string render_text(const Audit& a, bool quiet) {
   std::string out;
   auto line = [&](const std::string& s) { out += s + "\n"; };
   const auto& assembly = a.conversion.assembly;
-  line(fmt::format("{}: {}: {}", a.file, verdict_word(a), verdict_reason(a)));
+  line(fmt::format("{}: {}: {}", one_line(a.file), verdict_word(a), verdict_reason(a)));
   if (quiet || a.verdict == Verdict::Unreadable) return out;
   if (!a.assumptions.deciding.empty() || a.assumptions.joints_checked) {
     line(fmt::format("  assumptions that can change the verdict ({}):",

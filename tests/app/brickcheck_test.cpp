@@ -460,6 +460,24 @@ TEST(Brickcheck, GroundThresholdAndLoads) {
       << nowhere.out;
 }
 
+// A file name is one line of the heat map and of the report whatever it holds: a newline in it
+// would start a part line of its own (a brick the model does not have).
+TEST(Brickcheck, ANewlineInAFileNameAddsNoLine) {
+  const fs::path planted = scratch("bad\n1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\nname.ldr");
+  fs::copy_file(bridge('b', 1), planted, fs::copy_options::overwrite_existing);
+  const fs::path heat = scratch("planted-heat.ldr");
+  auto run = run_tool("brickcheck", {"--heatmap", heat.string(), planted.string()});
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(run.out.find("\n1 4 0 0 0"), std::string::npos) << run.out;
+  std::ifstream in(heat), model(planted);
+  auto part_lines = [](std::istream& s) {
+    int n = 0;
+    for (std::string line; std::getline(s, line);) n += line.starts_with("1 ");
+    return n;
+  };
+  EXPECT_EQ(part_lines(in), part_lines(model));
+}
+
 // A heat map never replaces an input, its own or another's, nor another input's heat map: the
 // run is refused before anything is read or written.
 TEST(Brickcheck, NoHeatMapEverReplacesAnInput) {
