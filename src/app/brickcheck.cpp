@@ -141,19 +141,36 @@ int main(int argc, char** argv) {
                "exit 5 when a stable verdict rests on an assumption that can change it (a part "
                "held by a connection not modelled, a part left out, assumed rigid joints the "
                "model does not stand without), naming each");
+  // A usage error on stderr, and with --json as a JSON object on stdout too, so that a script
+  // reading stdout learns why there is no report. --json is looked for in the arguments as given:
+  // a parse error leaves the flag unset.
+  const bool wants_json = std::any_of(
+      argv + 1, argv + argc, [](const char* arg) { return std::string_view(arg) == "--json"; });
+  auto json_error = [&](const std::string& message) {
+    if (wants_json)
+      std::cout << nlohmann::json{{"error", message}, {"verdict", "usage"}, {"stable", false}}.dump(
+                       2, ' ', false, nlohmann::json::error_handler_t::replace)
+                << "\n";
+  };
+  auto usage_error = [&](const std::string& message) {
+    std::cerr << "brickcheck: " << message << "\n";
+    json_error(message);
+    return kBadInput;
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    int code = app.exit(e);
-    return code == 0 ? 0 : kBadInput;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    app.exit(e);
+    json_error(e.what());
+    return kBadInput;
   }
 
   report::AuditOptions options;
   if (!ldraw_dir.empty()) {
     if (!is_ldraw_library(ldraw_dir)) {
-      std::cerr << "brickcheck: --ldraw-dir " << ldraw_dir
-                << " is not an LDraw library (no parts/ or p/ folder in it)\n";
-      return kBadInput;
+      return usage_error("--ldraw-dir " + ldraw_dir +
+                         " is not an LDraw library (no parts/ or p/ folder in it)");
     }
     options.read.library_dirs = {ldraw_dir};
   } else {
@@ -168,14 +185,12 @@ int main(int argc, char** argv) {
   options.steps = steps || !instructions.empty();
   if (!instructions.empty()) {
     if (files.size() != 1) {
-      std::cerr << "brickcheck: --instructions takes one FILE\n";
-      return kBadInput;
+      return usage_error("--instructions takes one FILE");
     }
     try {
       report::check_booklet_folder(instructions);
     } catch (const InputError& e) {
-      std::cerr << "brickcheck: " << e.what() << "\n";
-      return kBadInput;
+      return usage_error(e.what());
     }
   }
   options.brick_capacity = !heatmap.empty();
@@ -184,8 +199,7 @@ int main(int argc, char** argv) {
     for (const auto& t : ground_part_texts)
       options.ground_parts.push_back(report::parse_line_spec(t, "--ground-part"));
   } catch (const InputError& e) {
-    std::cerr << "brickcheck: " << e.what() << "\n";
-    return kBadInput;
+    return usage_error(e.what());
   }
   if (!heatmap.empty()) {
     // Every heat map against every input, before anything is read or written: the heat map of
@@ -195,19 +209,16 @@ int main(int argc, char** argv) {
       try {
         app::check_outputs({{"--heatmap", out.string()}}, {});
       } catch (const InputError& e) {
-        std::cerr << "brickcheck: " << e.what() << "\n";
-        return kBadInput;
+        return usage_error(e.what());
       }
       for (size_t k = 0; k < files.size(); ++k) {
         if (app::same_file(out, files[k])) {
-          std::cerr << "brickcheck: --heatmap: the heat map of " << files[i] << " (" << out.string()
-                    << ") would overwrite the input " << files[k] << "\n";
-          return kBadInput;
+          return usage_error("--heatmap: the heat map of " + files[i] + " (" + out.string() +
+                             ") would overwrite the input " + files[k]);
         }
         if (k < i && app::same_file(out, heatmap_path(heatmap, files[k], true))) {
-          std::cerr << "brickcheck: --heatmap: " << files[k] << " and " << files[i]
-                    << " would write the same heat map " << out.string() << "\n";
-          return kBadInput;
+          return usage_error("--heatmap: " + files[k] + " and " + files[i] +
+                             " would write the same heat map " + out.string());
         }
       }
     }

@@ -460,6 +460,24 @@ TEST(Brickcheck, GroundThresholdAndLoads) {
       << nowhere.out;
 }
 
+// With --json a usage error is a JSON object on stdout too: a script reading stdout learns why.
+TEST(Brickcheck, AUsageErrorIsJsonWithJson) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--json", "--nonsense", bridge('b', 1).string()},
+        {"--load", "heavy", "--json", bridge('b', 1).string()},
+        {"--json", "--ldraw-dir", "/nonexistent", bridge('b', 1).string()}}) {
+    auto run = run_tool("brickcheck", args);
+    EXPECT_EQ(run.exit_code, 2) << args[1];
+    json j = json::parse(run.out);
+    EXPECT_EQ(j["verdict"], "usage");
+    EXPECT_FALSE(j["stable"]);
+    EXPECT_FALSE(j["error"].get<std::string>().empty());
+    EXPECT_FALSE(run.err.empty());
+  }
+  // Without --json, stdout stays empty.
+  EXPECT_TRUE(run_tool("brickcheck", {"--nonsense", bridge('b', 1).string()}).out.empty());
+}
+
 // A file name is one line of the heat map and of the report whatever it holds: a newline in it
 // would start a part line of its own (a brick the model does not have).
 TEST(Brickcheck, ANewlineInAFileNameAddsNoLine) {
