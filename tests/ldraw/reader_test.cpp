@@ -272,6 +272,28 @@ TEST(Reader, ResolvesLocalFilesAndLibrary) {
   fs::remove_all(dir);
 }
 
+// Files nest up to 64 levels, the main model's included (ReadOptions::max_depth): 63 submodels
+// one inside the next. One more is an error at the line of the reference that goes deeper.
+TEST(Reader, SubmodelsNestAtMost64Deep) {
+  auto nested = [](int levels) {
+    std::string text;
+    for (int i = 0; i < levels; ++i)
+      text += "0 FILE s" + std::to_string(i) + ".ldr\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 s" +
+              std::to_string(i + 1) + ".ldr\n";
+    return text + "0 FILE s" + std::to_string(levels) +
+           ".ldr\n1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  };
+  Model ok = read_text(nested(63), "ok.mpd");
+  EXPECT_FALSE(ok.has_errors());
+  EXPECT_EQ(ok.parts.size(), 1u);
+  Model deep = read_text(nested(64), "deep.mpd");
+  ASSERT_TRUE(deep.has_errors());
+  const Diagnostic* d = find_diag(deep, "nested deeper than 64 levels");
+  ASSERT_NE(d, nullptr);
+  EXPECT_GT(d->line, 0);
+  EXPECT_TRUE(deep.parts.empty());
+}
+
 // Datsville's figures and patterned slopes embed unofficial parts without an !LDRAW_ORG line:
 // a block drawn only from primitives and subparts is a part, not a submodel whose primitives
 // would be placed as parts of the model. A block that places a part stays a submodel.
