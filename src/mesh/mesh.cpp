@@ -13,6 +13,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <system_error>
@@ -159,6 +160,39 @@ int material_texture(const aiScene* scene, const aiMaterial* m, const std::files
   return index;
 }
 
+// An OBJ's material libraries (`mtllib`) that are not there. Assimp goes on without them and
+// says nothing the caller sees: the surfaces take the default colour. Like Assimp, a library is
+// looked for beside the OBJ, then as the OBJ's own name with .mtl.
+void check_material_libraries(const std::filesystem::path& path, Mesh& out) {
+  namespace fs = std::filesystem;
+  if (ascii_lower(path.extension().string()) != ".obj") return;
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    std::string_view rest = line;
+    while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
+    if (!rest.starts_with("mtllib") || rest.size() < 7 || (rest[6] != ' ' && rest[6] != '\t'))
+      continue;
+    rest.remove_prefix(7);
+    while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
+    while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r'))
+      rest.remove_suffix(1);
+    if (rest.empty()) continue;
+    const std::string name = one_line(rest);
+    std::error_code ec;
+    if (fs::is_regular_file(path.parent_path() / std::string(rest), ec)) continue;
+    fs::path fallback = path;
+    fallback.replace_extension(".mtl");
+    out.warnings.push_back(
+        fs::is_regular_file(fallback, ec)
+            ? fmt::format("{}:{}: material library '{}' not found; its materials are read from {}",
+                          path.filename().string(), number, name, fallback.filename().string())
+            : fmt::format("{}:{}: material library '{}' not found (nor {}); its surfaces take the "
+                          "default colour",
+                          path.filename().string(), number, name, fallback.filename().string()));
+  }
+}
+
 }  // namespace
 
 std::optional<UpAxis> parse_up_axis(const std::string& text) {
@@ -274,6 +308,7 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshOptions& options) {
                      fmt::format("the mesh cannot be read: {}", importer.GetErrorString()));
   Mesh out;
   out.source = path.string();
+  check_material_libraries(path, out);
   UpAxis up;
   if (options.up) {
     up = *options.up;

@@ -85,6 +85,29 @@ TEST(Texture, QuadFollowsItsExternalTexture) {
   expect_red_left_blue_right(m);
 }
 
+// An OBJ whose material library is not there: Assimp goes on silently with the default colour;
+// the mesh says so, by file and line, and whether the OBJ's own .mtl stood in for it.
+TEST(Texture, AMissingMaterialLibraryIsAWarning) {
+  auto obj = scratch("lonely.obj");
+  fs::remove(scratch("lonely.mtl"));
+  const std::string text = "v 0 0 0\nv 10 0 0\nv 10 10 0\nmtllib gone.mtl\nusemtl red\nf 1 2 3\n";
+  std::ofstream(obj) << text;
+  Mesh m = load_mesh(obj);
+  ASSERT_EQ(m.warnings.size(), 1u);
+  EXPECT_NE(m.warnings[0].find("lonely.obj:4: material library 'gone.mtl' not found (nor "
+                               "lonely.mtl)"),
+            std::string::npos)
+      << m.warnings[0];
+  std::ofstream(scratch("lonely.mtl")) << "newmtl red\nKd 1 0 0\n";
+  m = load_mesh(obj);
+  ASSERT_EQ(m.warnings.size(), 1u);
+  EXPECT_NE(m.warnings[0].find("its materials are read from lonely.mtl"), std::string::npos);
+  std::ofstream(scratch("gone.mtl")) << "newmtl red\nKd 1 0 0\n";
+  EXPECT_TRUE(load_mesh(obj).warnings.empty());
+  fs::remove(scratch("gone.mtl"));
+  fs::remove(scratch("lonely.mtl"));
+}
+
 TEST(Texture, GltfEmbeddedTextureAndNodeTransforms) {
   const float positions[12] = {0, 0, 0, 10, 0, 0, 10, 10, 0, 0, 10, 0};
   const float uvs[8] = {0, 1, 1, 1, 1, 0, 0, 0};  // glTF's v runs down the image
