@@ -124,8 +124,17 @@ void Limits::add(std::string_view spec_view, const BrickCatalog& catalog, std::s
 }
 
 void Limits::read_inventory(const std::filesystem::path& csv, const BrickCatalog& catalog) {
-  std::ifstream in(csv);
   const std::string file = csv.string();
+  // A device or a pipe never ends (/dev/zero filled the memory, a FIFO blocked): an inventory is
+  // a file, and a list of parts is small.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(csv, ec))
+    throw InputError(file, 0,
+                     std::filesystem::exists(csv, ec) ? "the inventory is not a regular file"
+                                                      : "no such inventory file");
+  if (std::filesystem::file_size(csv, ec) > kMaxInventoryBytes)
+    throw InputError(file, 0, "the inventory is over 16 MB: not a list of parts");
+  std::ifstream in(csv);
   if (!in) throw InputError(file, 0, "cannot read the inventory");
   listed_only = true;
   std::string text;

@@ -1,6 +1,7 @@
 #pragma once
 // Brick limits (paper section 7): how many bricks of a size, or of a size in one color, a layout
 // may use. Merges that would exceed a limit are discarded.
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -13,6 +14,9 @@
 #include "layout/layout.h"
 
 namespace lego::layout {
+
+// An inventory is a list of parts: 16 MB is some 500,000 lines.
+inline constexpr std::uintmax_t kMaxInventoryBytes = 16u << 20;
 
 struct Limits {
   std::map<std::pair<int, int>, int> by_size;              // (length, width) -> most bricks
@@ -37,7 +41,8 @@ struct Limits {
   // number, optionally @color, then the most bricks. Throws InputError naming `origin`.
   void add(std::string_view spec, const BrickCatalog& catalog, std::string_view origin = "--limit");
   // An inventory CSV: part,color,quantity per line (a header line and # comments are skipped;
-  // an empty color means any color). Throws InputError with file:line.
+  // an empty color means any color), a regular file of at most kMaxInventoryBytes. Throws
+  // InputError with file:line.
   void read_inventory(const std::filesystem::path& csv, const BrickCatalog& catalog);
 };
 

@@ -265,6 +265,16 @@ TEST(Layout, LimitSpecsAndInventories) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 2);
   }
+  // A device never ends, a folder is no list: refused before reading (/dev/zero filled the
+  // memory); so is a file too large to be an inventory.
+  for (const std::filesystem::path& not_a_list :
+       {std::filesystem::path("/dev/zero"), csv.parent_path()}) {
+    Limits refused;
+    EXPECT_THROW(refused.read_inventory(not_a_list, catalog), InputError) << not_a_list;
+  }
+  std::filesystem::resize_file(csv, kMaxInventoryBytes + 1);
+  Limits huge;
+  EXPECT_THROW(huge.read_inventory(csv, catalog), InputError);
 }
 
 TEST(Layout, OneComponentForSphereTorusAndJoinedTowers) {
