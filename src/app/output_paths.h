@@ -46,8 +46,8 @@ struct Output {
   std::string path;    // empty: not asked for
 };
 
-// Throws InputError when an output's folder is missing or not writable, when it is a folder,
-// when it is one of the inputs, or when two options name the same file.
+// Throws InputError when an output's folder is missing or not writable, when it is a folder or
+// a read-only file, when it is one of the inputs, or when two options name the same file.
 inline void check_outputs(const std::vector<Output>& outputs,
                           const std::vector<std::filesystem::path>& inputs) {
   namespace fs = std::filesystem;
@@ -60,6 +60,15 @@ inline void check_outputs(const std::vector<Output>& outputs,
     if (!fs::is_directory(dir, ec))
       throw InputError(o.path, 0, o.option + ": the folder " + dir.string() + " does not exist");
     if (fs::is_directory(p, ec)) throw InputError(o.path, 0, o.option + ": is a folder");
+    // A file its owner made read-only is one they meant to keep: never replaced (a rename over
+    // it would succeed, and lose it and its mode, whatever its bits; root passes access()).
+    if (const auto st = fs::status(p, ec);
+        !ec && fs::is_regular_file(st) &&
+        (st.permissions() & fs::perms::owner_write) == fs::perms::none)
+      throw InputError(o.path, 0,
+                       o.option +
+                           ": the file is read-only; make it writable or remove it to "
+                           "replace it");
     if (const std::string why = why_not_writable(dir); !why.empty())
       throw InputError(o.path, 0,
                        o.option + ": no file can be written in " + dir.string() + " (" + why + ")");

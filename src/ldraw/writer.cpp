@@ -183,6 +183,12 @@ void write_temporary(const std::filesystem::path& path, const std::string& text)
     std::filesystem::remove(tmp, ec);
     throw InputError(path.string(), 0, "writing failed");
   }
+  out.close();
+  // The file it replaces keeps its mode (a 640 model stays 640, not the umask's 644).
+  std::error_code ec;
+  if (const auto old = std::filesystem::status(path, ec);
+      !ec && std::filesystem::is_regular_file(old))
+    std::filesystem::permissions(tmp, old.permissions(), ec);
 }
 
 }  // namespace

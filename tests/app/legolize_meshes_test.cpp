@@ -339,6 +339,22 @@ TEST(LegolizeMeshes, OutputsAreCheckedBeforeAnyWork) {
     EXPECT_NE(run.err.find("no file can be written"), std::string::npos) << run.err;
     EXPECT_EQ(run.err.find("reading"), std::string::npos) << "refused before reading the mesh";
   }
+  // A read-only output is one its owner meant to keep: refused, untouched. A writable one is
+  // replaced and keeps its mode.
+  const fs::path kept = scratch("kept.ldr");
+  std::ofstream(kept) << "0 mine\n";
+  fs::permissions(kept, fs::perms::owner_read | fs::perms::group_read);
+  run = run_tool("legolize", {obj.string(), "--voxels-only", "-o", kept.string()});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("read-only"), std::string::npos) << run.err;
+  std::ifstream in(kept);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "0 mine\n");
+  fs::permissions(kept, fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+  run = run_tool("legolize", {obj.string(), "--voxels-only", "-o", kept.string()});
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(fs::status(kept).permissions(),
+            fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+  EXPECT_GT(fs::file_size(kept), 10u);
 }
 
 TEST(LegolizeMeshes, TheSameSeedGivesTheSameModelWhateverTheJobs) {
