@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <set>
 
 #include "app/number_checks.h"
 #include "app/output_paths.h"
@@ -286,6 +287,16 @@ int main(int argc, char** argv) {
         audit.verdict != report::Verdict::NothingToAnalyse) {
       fs::path out = heatmap_path(heatmap, file, files.size() > 1);
       try {
+        // A file the model reads that the command line does not name (a submodel in its own
+        // file, a part file beside the model) is no more replaced than the file named.
+        std::set<fs::path> read(audit.model.files.begin(), audit.model.files.end());
+        for (const auto& p : audit.model.parts)
+          if (!p.definition.empty()) read.insert(p.definition);
+        for (const fs::path& r : read)
+          if (app::same_file(out, r))
+            throw InputError(
+                out.string(), 0,
+                "--heatmap: would overwrite " + r.string() + ", which " + file + " reads");
         ldraw::write_file_atomically(out, report::render_heatmap(audit));
         if (!quiet && !json) std::cout << "  heat map: " << out.string() << "\n";
       } catch (const InputError& e) {

@@ -498,6 +498,7 @@ class Flattener {
       return nullptr;
     }
     doc->text = std::move(*bytes);
+    model_.files.push_back(path);
     Parser(*doc, model_.diagnostics, model_.colors).parse();
     register_embedded_parts(*doc);
     const Document* raw = doc.get();
@@ -656,7 +657,9 @@ Model read_file(const fs::path& path, const ReadOptions& options) {
     model.diagnostics.push_back({Severity::Error, path.string(), 0, err});
     return model;
   }
-  return read_text(*bytes, path.string(), options);
+  Model model = read_text(*bytes, path.string(), options);
+  model.files.insert(model.files.begin(), path);
+  return model;
 }
 
 }  // namespace lego::ldraw

@@ -61,6 +61,8 @@ struct Model {
   std::string title, name, author, ldraw_org;  // header of the main model
   std::string main_block;                      // name of the main model's FILE block
   std::vector<std::string> submodels;          // model blocks used while flattening (no parts)
+  // The model files read: the main one (read_file) and every external submodel file, once each.
+  std::vector<std::filesystem::path> files;
   std::vector<PlacedPart> parts;
   std::vector<SubmodelPlacement> placements;  // those that hold a part, directly or not
   std::vector<Step> steps;

@@ -496,6 +496,19 @@ TEST(Brickcheck, ANewlineInAFileNameAddsNoLine) {
   EXPECT_EQ(part_lines(in), part_lines(model));
 }
 
+// Nor a file the model reads that the command line does not name: a submodel in its own file.
+TEST(Brickcheck, NoHeatMapReplacesASubmodelFile) {
+  const fs::path top = scratch("top.ldr"), sub = scratch("sub.ldr");
+  std::ofstream(top) << "0 top\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 sub.ldr\n";
+  const std::string sub_text = "0 sub\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  std::ofstream(sub) << sub_text;
+  auto run = run_tool("brickcheck", {"--heatmap", sub.string(), top.string()});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("which " + top.string() + " reads"), std::string::npos) << run.err;
+  std::ifstream in(sub);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), sub_text);
+}
+
 // A heat map never replaces an input, its own or another's, nor another input's heat map: the
 // run is refused before anything is read or written.
 TEST(Brickcheck, NoHeatMapEverReplacesAnInput) {
