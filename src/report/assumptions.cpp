@@ -86,19 +86,16 @@ std::vector<Assumption> joint_assumptions(const Audit& a) {
         {Assumption::Kind::Joint, fmt::format("{} ties {} parts together rigidly: {}",
                                               group_name(a, group), group.joins.size(), joins)});
   }
-  for (int k : r.graph.lattice_joints) {
-    const auto& c = r.graph.contacts[size_t(k)];
-    out.push_back({Assumption::Kind::Joint,
-                   fmt::format("{} and {}, on two lattices, touch and are taken as joined rigidly",
-                               describe_brick(a, c.lower), describe_brick(a, c.upper))});
-  }
-  for (int k : r.graph.pivot_joints) {
-    const auto& c = r.graph.contacts[size_t(k)];
-    out.push_back({Assumption::Kind::Joint,
-                   fmt::format("{} and {}, hinge halves without a line they share, touch and are "
-                               "taken as joined rigidly",
-                               describe_brick(a, c.lower), describe_brick(a, c.upper))});
-  }
+  auto touching = [&](const std::vector<int>& joints, const char* what) {
+    for (int k : joints) {
+      const auto& c = r.graph.contacts[size_t(k)];
+      out.push_back({Assumption::Kind::Joint,
+                     fmt::format("{} and {}, {}, touch and are taken as joined rigidly",
+                                 describe_brick(a, c.lower), describe_brick(a, c.upper), what)});
+    }
+  };
+  touching(r.graph.lattice_joints, "on two lattices");
+  touching(r.graph.pivot_joints, "hinge halves without a line they share");
   return out;
 }
 

@@ -101,16 +101,15 @@ std::string render_heatmap(const Audit& a) {
     for (int b : group.joins) joins += (joins.empty() ? "" : "; ") + describe_brick(a, b);
     out += fmt::format("0 // assumed rigid joint through {} joins {}\n", through, joins);
   }
-  for (int k : r.graph.lattice_joints) {
-    const auto& c = r.graph.contacts[size_t(k)];
-    out += fmt::format("0 // assumed rigid joint where two lattices touch joins {}; {}\n",
-                       describe_brick(a, c.lower), describe_brick(a, c.upper));
-  }
-  for (int k : r.graph.pivot_joints) {
-    const auto& c = r.graph.contacts[size_t(k)];
-    out += fmt::format("0 // assumed rigid joint where hinge halves touch joins {}; {}\n",
-                       describe_brick(a, c.lower), describe_brick(a, c.upper));
-  }
+  auto touching = [&](const std::vector<int>& joints, const char* where) {
+    for (int k : joints) {
+      const auto& c = r.graph.contacts[size_t(k)];
+      out += fmt::format("0 // assumed rigid joint where {} touch joins {}; {}\n", where,
+                         describe_brick(a, c.lower), describe_brick(a, c.upper));
+    }
+  };
+  touching(r.graph.lattice_joints, "two lattices");
+  touching(r.graph.pivot_joints, "hinge halves");
   auto number = [](double v) {
     std::string s = fmt::format("{:.4f}", v);
     while (s.back() == '0') s.pop_back();

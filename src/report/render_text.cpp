@@ -135,28 +135,19 @@ std::string render_text(const Audit& a, bool quiet) {
     line("  assumed rigid joint through " + by + ":");
     for (int b : group.joins) line("    " + describe_brick(a, b));
   }
-  const auto& lattice = r.graph.lattice_joints;
-  if (!lattice.empty())
-    line(
-        fmt::format("  assumed rigid {} where parts of two lattices touch (parts placed at an "
-                    "angle, analysed in their own frame):",
-                    plural(lattice.size(), "joint")));
-  for (size_t i = 0; i < lattice.size() && i < 20; ++i) {
-    const auto& c = r.graph.contacts[size_t(lattice[i])];
-    line("    " + describe_brick(a, c.lower) + " and " + describe_brick(a, c.upper));
-  }
-  if (lattice.size() > 20) line(fmt::format("    and {} more", lattice.size() - 20));
-  const auto& halves = r.graph.pivot_joints;
-  if (!halves.empty())
-    line(
-        fmt::format("  assumed rigid {} where hinge or turntable halves touch without a line "
-                    "they share:",
-                    plural(halves.size(), "joint")));
-  for (size_t i = 0; i < halves.size() && i < 20; ++i) {
-    const auto& c = r.graph.contacts[size_t(halves[i])];
-    line("    " + describe_brick(a, c.lower) + " and " + describe_brick(a, c.upper));
-  }
-  if (halves.size() > 20) line(fmt::format("    and {} more", halves.size() - 20));
+  // Assumed joints where two parts touch with nothing modelled between them: the first 20.
+  auto touching = [&](const std::vector<int>& joints, const std::string& where) {
+    if (joints.empty()) return;
+    line(fmt::format("  assumed rigid {} where {}:", plural(joints.size(), "joint"), where));
+    for (size_t i = 0; i < joints.size() && i < 20; ++i) {
+      const auto& c = r.graph.contacts[size_t(joints[i])];
+      line("    " + describe_brick(a, c.lower) + " and " + describe_brick(a, c.upper));
+    }
+    if (joints.size() > 20) line(fmt::format("    and {} more", joints.size() - 20));
+  };
+  touching(r.graph.lattice_joints,
+           "parts of two lattices touch (parts placed at an angle, analysed in their own frame)");
+  touching(r.graph.pivot_joints, "hinge or turntable halves touch without a line they share");
   const auto& c = r.connectivity;
   int grounded = 0;
   for (char g : c.grounded) grounded += g;

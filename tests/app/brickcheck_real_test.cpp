@@ -187,6 +187,17 @@ TEST(BrickcheckReal, TechnicPinsTurnAxlesHold) {
   EXPECT_EQ(friction["weakest"][0]["b"]["part"], "4459");
 }
 
+// Four parts, all analysed, with no assumed joint: two halves joined by one joint that turns.
+void expect_four_analysed_on_one_turning_joint(const json& j, const char* a, const char* b) {
+  EXPECT_EQ(j["bricks"], 4);
+  EXPECT_TRUE(j["carried"].empty());
+  EXPECT_TRUE(j["joints"].empty());
+  ASSERT_EQ(j["technic_joints"].size(), 1u);
+  EXPECT_EQ(j["technic_joints"][0]["kind"], "turns");
+  EXPECT_EQ(j["technic_joints"][0]["a"]["part"], a);
+  EXPECT_EQ(j["technic_joints"][0]["b"]["part"], b);
+}
+
 // A hinge between two walls: both halves are analysed, joined where their knuckles share the
 // hinge's line by a joint that passes force but no moment about that line. Centred, the wall
 // above stands on the hinge (with nothing assumed: --strict passes); a 1 x 6 brick across it,
@@ -200,13 +211,7 @@ TEST(BrickcheckReal, AHingeTurnsUnderASideLoad) {
       "1 15 0 -48 0 1 0 0 0 1 0 0 0 1 3938.dat\n";
   auto path = model("hinge.ldr", hinge + "1 4 0 -72 0 1 0 0 0 1 0 0 0 1 3004.dat\n");
   json j = check(path, 0, {"--strict"});
-  EXPECT_EQ(j["bricks"], 4);
-  EXPECT_TRUE(j["carried"].empty());
-  EXPECT_TRUE(j["joints"].empty());
-  ASSERT_EQ(j["technic_joints"].size(), 1u);
-  EXPECT_EQ(j["technic_joints"][0]["kind"], "turns");
-  EXPECT_EQ(j["technic_joints"][0]["a"]["part"], "3937");
-  EXPECT_EQ(j["technic_joints"][0]["b"]["part"], "3938");
+  expect_four_analysed_on_one_turning_joint(j, "3937", "3938");
   EXPECT_TRUE(j["strict"]["passes"]);
   // A 1 x 3 across the hinge, centred on its line: it balances.
   json across = check(model("across.ldr", hinge + "1 2 10 -72 0 0 0 1 0 1 0 -1 0 0 3622.dat\n"), 0);
@@ -240,13 +245,7 @@ TEST(BrickcheckReal, AnArmOnATurntable) {
                  exit);
   };
   json j = arm_over("turntable.ldr", "1 7 0 -24 0 1 0 0 0 1 0 0 0 1 3403.dat\n", 0);
-  EXPECT_EQ(j["bricks"], 4);
-  EXPECT_TRUE(j["carried"].empty());
-  EXPECT_TRUE(j["joints"].empty());
-  ASSERT_EQ(j["technic_joints"].size(), 1u);
-  EXPECT_EQ(j["technic_joints"][0]["kind"], "turns");
-  EXPECT_EQ(j["technic_joints"][0]["a"]["part"], "3403");
-  EXPECT_EQ(j["technic_joints"][0]["b"]["part"], "3404");
+  expect_four_analysed_on_one_turning_joint(j, "3403", "3404");
   EXPECT_NEAR(j["cm_gf"].get<double>(), 71.658 - 3.08 / (4 * (2.5 + 1.5 + 0.5)), 1e-3);
   ASSERT_FALSE(j["weakest"].empty());
   EXPECT_EQ(j["weakest"][0]["b"]["part"], "3008");
