@@ -858,11 +858,12 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
                 ++f.abutting;
               const auto kind = s.shaft->kind, other = r.shaft->kind;
               // Two halves joined on two lines cannot turn about either.
-              const bool second_line = f.on && line_of(r, 0, 0) != f.line;
+              const Line line = line_of(r, 0, 0);
+              const bool second_line = f.on && line != f.line;
               f.holds = f.holds || (kind == Shaft::Kind::Axle && other == Shaft::Kind::AxleHole) ||
                         (kind == Shaft::Kind::LockingKnuckle && other == kind) ||
                         (knuckles && second_line);
-              f.line = line_of(r, 0, 0);
+              f.line = line;
               f.friction = f.friction || kind == Shaft::Kind::FrictionPin;
               f.on = &r;
             }
@@ -931,11 +932,15 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
   // halves touch without a line they share (a hinge whose fingers' primitives are not
   // cylinders), nothing tells how they hold: they are joined as a carried part joins what it
   // touches (README "What it analyses").
-  if (assumed_joints) {
-    auto pivots = [&](int i) { return a.bricks[size_t(i)].type->pivots; };
+  auto pivots = [&](int i) { return a.bricks[size_t(i)].type->pivots; };
+  bool any_pivot = false;
+  for (int i = 0; i < n && !any_pivot; ++i) any_pivot = pivots(i);
+  // Legolize's bricks are neither: its many analyses skip this.
+  if (assumed_joints && (any_turned || any_pivot)) {
     std::set<std::pair<int, int>> lattice_pairs, pivot_pairs, snapped;
-    for (const Contact& c : g.contacts)
-      if (c.snap()) snapped.insert({std::min(c.lower, c.upper), std::max(c.lower, c.upper)});
+    if (any_pivot)
+      for (const Contact& c : g.contacts)
+        if (c.snap()) snapped.insert({std::min(c.lower, c.upper), std::max(c.lower, c.upper)});
     for (int id = 0; id < int(box_owner.size()); ++id) {
       const int i = box_owner[size_t(id)].first;
       if (!a.bricks[size_t(i)].frame && !pivots(i)) continue;
