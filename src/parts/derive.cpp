@@ -180,6 +180,14 @@ std::string carried_by_name(const PartGeometry& g) {
   return {};
 }
 
+// The line a shaft lies on: its axis and where it crosses the other two, on a quarter-LDU grid.
+using ShaftLine = std::tuple<int, double, double>;
+ShaftLine line_of(const Shaft& s) {
+  const int axis = s.axis();
+  auto grid = [](double x) { return std::round(x * 4) / 4; };
+  return {axis, grid(s.a[size_t((axis + 1) % 3)]), grid(s.a[size_t((axis + 2) % 3)])};
+}
+
 // The part's Technic connections as whole shafts: the pieces a primitive draws on one line
 // (a pin's two halves, a hole's end rings) joined, where they touch or, for holes, where no more
 // than a stud's width lies between them.
@@ -191,11 +199,8 @@ std::vector<Shaft> joined_shafts(std::vector<Shaft> drawn) {
   };
   std::vector<Key> keys;
   for (const Shaft& s : drawn) {
-    const int axis = s.axis();
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    auto grid = [](double x) { return std::round(x * 4) / 4; };
-    keys.push_back({s.kind, axis, grid(s.a[size_t(u)]), grid(s.a[size_t(v)]),
-                    std::min(s.a[size_t(axis)], s.b[size_t(axis)]),
+    const auto [axis, u, v] = line_of(s);
+    keys.push_back({s.kind, axis, u, v, std::min(s.a[size_t(axis)], s.b[size_t(axis)]),
                     std::max(s.a[size_t(axis)], s.b[size_t(axis)])});
   }
   std::sort(keys.begin(), keys.end(), [](const Key& x, const Key& y) {
@@ -227,13 +232,7 @@ std::vector<Shaft> joined_shafts(std::vector<Shaft> drawn) {
 // the other half tells: contact_graph.cpp joins two halves on a line they share). A locking
 // hinge clicks in place: its knuckles hold.
 std::vector<Shaft> knuckles(const PartGeometry& g) {
-  using Line = std::tuple<int, double, double>;
-  auto line_of = [](const Shaft& s) {
-    const int axis = s.axis();
-    auto grid = [](double x) { return std::round(x * 4) / 4; };
-    return Line{axis, grid(s.a[size_t((axis + 1) % 3)]), grid(s.a[size_t((axis + 2) % 3)])};
-  };
-  std::map<Line, double> cover;
+  std::map<ShaftLine, double> cover;
   for (const Shaft& s : g.rounds)
     cover[line_of(s)] += std::abs(s.a[size_t(s.axis())] - s.b[size_t(s.axis())]);
   const bool locking = g.title.find("Locking") != std::string::npos;
@@ -498,8 +497,8 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   // parts are carried whatever their cells (PHYSICS.md): a head's cell takes a neck.
   const bool turns_on_knuckles = std::any_of(t.shape.shafts.begin(), t.shape.shafts.end(),
                                              [](const Shaft& s) { return s.knuckle(); });
-  if (k.carried_reason.empty() && (t.shape.receptacles.empty() || minifigure(g)) &&
-      !(turns_on_knuckles && !minifigure(g)))
+  if (k.carried_reason.empty() &&
+      (minifigure(g) || (t.shape.receptacles.empty() && !turns_on_knuckles)))
     k.carried_reason = carried_by_name(g);
   if (k.carried_reason.empty() && t.shape.studs.empty() && t.shape.receptacles.empty() &&
       t.shape.shafts.empty())

@@ -216,13 +216,14 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
       for (int k = 0; k < 3; ++k) axes += std::abs(a[size_t(k)] - b[size_t(k)]) > 1e-3;
       if (axes == 1) into.push_back({s.kind, a, b});
     };
+    const auto kind = shaft_primitive(base);
     if (is_cylinder_primitive(base)) {
       if (std::hypot(t.rot[0], t.rot[3], t.rot[6]) >= 2)
         take(g->rounds, {Shaft::Kind::Knuckle, {0, 0, 0}, {0, 1, 0}});
-    } else if (!base.starts_with("stud") && !shaft_primitive(base)) {
+    } else if (!base.starts_with("stud") && !kind) {
       for (const Shaft& s : sub->rounds) take(g->rounds, s);
     }
-    if (const auto kind = shaft_primitive(base)) {
+    if (kind) {
       double lo = 1e300, hi = -1e300;
       for (const Triangle& tri : sub->faces)
         for (const Vec3& p : tri.p) lo = std::min(lo, p[1]), hi = std::max(hi, p[1]);
