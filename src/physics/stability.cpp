@@ -108,11 +108,13 @@ std::optional<std::vector<int>> unbalanced_bodies(const EquilibriumSystem& sys,
   return bodies;
 }
 
+}  // namespace
+
 // With no equilibrium, the joints that turn and must not: the model analysed with them holding a
 // moment about their axis as well, friction unlimited, the least total such moment (each column
 // split by sign, priced 1). None when even that does not stand: what fails is elsewhere.
-std::vector<std::pair<int, double>> turning_of(const Assembly& a, const StabilityResult& r,
-                                               const StabilityOptions& o) {
+std::vector<std::pair<int, double>> turning_joints(const Assembly& a, const StabilityResult& r,
+                                                   const StabilityOptions& o) {
   if (r.status != StabilityStatus::NoEquilibrium) return {};
   if (std::none_of(r.graph.shaft_joints.begin(), r.graph.shaft_joints.end(), [&](int k) {
         return r.graph.contacts[size_t(k)].joint_kind == Contact::Kind::Turns;
@@ -141,6 +143,8 @@ std::vector<std::pair<int, double>> turning_of(const Assembly& a, const Stabilit
   for (auto& [contact, moment] : out) moment *= kJointUnit;  // lever arms are in studs
   return out;
 }
+
+namespace {
 
 // No equilibrium: `bodies` (EquilibriumSystem bodies, sorted) are those the diagnosis names.
 void set_no_equilibrium(const EquilibriumSystem& sys, const std::vector<int>& bodies,
@@ -390,11 +394,6 @@ bool decided(StabilityStatus status) {
   return status != StabilityStatus::IterationLimit && status != StabilityStatus::NumericalTrouble;
 }
 
-std::vector<std::pair<int, double>> turning_joints(const Assembly& a, const StabilityResult& r,
-                                                   const StabilityOptions& o) {
-  return turning_of(a, r, o);
-}
-
 StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) {
   StabilityResult r;
   auto start = std::chrono::steady_clock::now();
@@ -433,7 +432,7 @@ StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) 
   else
     solve_max_min(sys, o, r);
   r.stats.solve_seconds = seconds_since(start);
-  if (o.diagnose_turning) r.turning = turning_of(a, r, o);
+  if (o.diagnose_turning) r.turning = turning_joints(a, r, o);
   if (o.brick_capacity && r.status == StabilityStatus::Solved) {
     start = std::chrono::steady_clock::now();
     brick_capacity(a, sys, o, r);
