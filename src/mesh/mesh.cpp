@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include "core/case_insensitive_paths.h"
+#include "core/csv.h"
 #include "core/error.h"
 #include "core/text.h"
 #include "mesh/image.h"
@@ -169,18 +170,13 @@ void check_material_libraries(const std::filesystem::path& path, Mesh& out) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
-    std::string_view rest = line;
-    while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
-    if (!rest.starts_with("mtllib") || rest.size() < 7 || (rest[6] != ' ' && rest[6] != '\t'))
-      continue;
-    rest.remove_prefix(7);
-    while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
-    while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r'))
-      rest.remove_suffix(1);
-    if (rest.empty()) continue;
-    const std::string name = one_line(rest);
+    const std::string row = trim(line);
+    if (!row.starts_with("mtllib") || row.size() < 7 || (row[6] != ' ' && row[6] != '\t')) continue;
+    const std::string library = trim(std::string_view(row).substr(7));
+    if (library.empty()) continue;
+    const std::string name = one_line(library);
     std::error_code ec;
-    if (fs::is_regular_file(path.parent_path() / std::string(rest), ec)) continue;
+    if (fs::is_regular_file(path.parent_path() / library, ec)) continue;
     fs::path fallback = path;
     fallback.replace_extension(".mtl");
     out.warnings.push_back(
