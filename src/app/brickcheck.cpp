@@ -72,6 +72,7 @@ void write_instructions(const report::Audit& audit, const fs::path& dir,
       if (s.step == bs.number) {
         if (s.status == physics::StabilityStatus::Solved) bs.cm_gf = s.cm_gf;
         bs.stands = s.stable;
+        bs.certified = s.certified;
         if (s.stable) break;
         if (s.floating > 0)
           bs.why = fmt::format("{} part{} reach no ground", s.floating, s.floating == 1 ? "" : "s");

@@ -217,11 +217,13 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
   out.steps_stand = !s.order.analyse || out.order.all_stand();
   out.seconds_order = seconds_since(t);
   s.stage(s.order.analyse
-              ? fmt::format("build order: {} steps, {}; smallest step C_M {}; {} analyses, "
-                            "{:.2f} s",
+              ? fmt::format("build order: {} steps, {}; smallest step C_M {}; {} analyses, {} "
+                            "steps certified without the LP, {:.2f} s",
                             out.order.steps.size(),
                             out.steps_stand ? "every one stands" : "NOT every one stands",
-                            cm_words(out.order.min_cm_gf()), out.order.analyses, out.order.seconds)
+                            (out.order.weakest_is_a_bound() ? "at least " : "") +
+                                cm_words(out.order.min_cm_gf()),
+                            out.order.analyses, out.order.certified_steps(), out.order.seconds)
               : fmt::format("build order: {} steps, not analysed", out.order.steps.size()));
   // Where the piece was lowered from: its bricks go back there in the model.
   out.la.assembly.origin_ldu[1] -= out.lift * kPlatesPerBrick * kLduPerPlate;
@@ -500,6 +502,7 @@ int main(int argc, char** argv) {
           if (!st.analysed) continue;
           if (std::isfinite(st.cm_gf)) bs.cm_gf = st.cm_gf;
           bs.stands = st.stands;
+          bs.certified = st.certified;
           bs.why = st.why;
         }
       if (std::isfinite(rep.cm_gf_final)) booklet.cm_gf = rep.cm_gf_final;
@@ -636,7 +639,7 @@ int main(int argc, char** argv) {
                              bs.status == physics::StabilityStatus::Solved
                                  ? bs.cm_gf
                                  : -std::numeric_limits<double>::infinity(),
-                             bs.analysed, bs.stands, bs.why});
+                             bs.analysed, bs.stands, bs.why, bs.certified});
       rep.pieces.push_back(
           {.piece = int(k) + 1,
            .grounded = r.lift == 0,
@@ -714,11 +717,12 @@ int main(int argc, char** argv) {
       std::cout << fmt::format("build steps: {}, not analysed (--no-step-analysis)\n",
                                rep.steps.size());
     } else if (!rep.steps.empty()) {
-      double smallest = std::numeric_limits<double>::infinity();
-      for (const auto& st : rep.steps) smallest = std::min(smallest, st.cm_gf);
-      std::cout << fmt::format("build steps: {}, {}; smallest step C_M {}\n", rep.steps.size(),
+      const report::StepReport* smallest = &rep.steps.front();
+      for (const auto& st : rep.steps)
+        if (st.cm_gf < smallest->cm_gf) smallest = &st;
+      std::cout << fmt::format("build steps: {}, {}; smallest step C_M {}{}\n", rep.steps.size(),
                                rep.steps_stand ? "every one stands" : "NOT every one stands",
-                               cm_words(smallest));
+                               smallest->certified ? "at least " : "", cm_words(smallest->cm_gf));
       for (const auto& st : rep.steps)
         if (!st.stands) std::cout << fmt::format("  step {} falls: {}\n", st.step, st.why);
     }

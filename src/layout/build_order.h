@@ -18,6 +18,9 @@ struct BuildOrderOptions {
   // False: the order by studs alone, no step analysed (one analysis per step costs about half
   // the final model's each; the report then says the steps were not analysed).
   bool analyse = true;
+  // A step stands when a certificate shows it (physics/step_stability.h); the LP only where no
+  // certificate is found, and for the weakest step's exact C_M. False: the LP for every step.
+  bool certify = true;
   // Two steps analysed at a time (the next planned as if this one stands); false: one by one.
   bool side_by_side = true;
   std::function<void(int step, int steps_so_far, double seconds)> progress;  // may be empty
@@ -30,8 +33,9 @@ struct BuildStep {
   int new_bricks = 0;  // placed in this step
   int bricks = 0;      // placed so far
   physics::StabilityStatus status = physics::StabilityStatus::Empty;
-  double cm_gf = 0;  // valid when status is Solved
-  int floating = 0;  // bricks placed so far that reach no ground
+  double cm_gf = 0;        // valid when status is Solved
+  bool certified = false;  // cm_gf is a certified lower bound (physics/certificate.h), not exact
+  int floating = 0;        // bricks placed so far that reach no ground
   bool analysed = false;
   bool stands = false;  // when analysed
   std::string why;      // when it does not stand: what holds it back
@@ -44,6 +48,9 @@ struct BuildOrder {
   int analyses = 0;   // stability analyses run
   double seconds = 0;
   bool all_stand() const;  // every step analysed and standing
+  int certified_steps() const;
+  // The smallest C_M / g of the analysed steps is a certificate's bound, not the LP's value.
+  bool weakest_is_a_bound() const;
   // The smallest C_M / g of the analysed steps (-inf when one has no number, +inf when none is
   // analysed).
   double min_cm_gf() const;

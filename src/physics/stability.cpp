@@ -394,7 +394,7 @@ bool decided(StabilityStatus status) {
   return status != StabilityStatus::IterationLimit && status != StabilityStatus::NumericalTrouble;
 }
 
-StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) {
+StabilityResult analyze_contacts(const Assembly& a, const StabilityOptions& o) {
   StabilityResult r;
   auto start = std::chrono::steady_clock::now();
   r.graph = ContactGraph::build(a, o.ground, o.assumed_joints);
@@ -418,15 +418,23 @@ StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) 
     r.graph.tips_over = table.tips && !anchored;
   }
   r.stats.graph_seconds = seconds_since(start);
-  if (a.bricks.empty()) return r;
-  start = std::chrono::steady_clock::now();
+  return r;
+}
+
+EquilibriumSystem build_equilibrium(const Assembly& a, StabilityResult& r,
+                                    const StabilityOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
   EquilibriumSystem sys = build_equilibrium(a, r.graph, r.connectivity, o.formulation);
   r.stats.build_seconds = seconds_since(start);
-  if (sys.rows == 0) {  // nothing stands that is not the ground itself
+  if (sys.rows == 0)  // nothing stands that is not the ground itself
     r.status = r.connectivity.floating.empty() ? StabilityStatus::Empty : StabilityStatus::Floating;
-    return r;
-  }
-  start = std::chrono::steady_clock::now();
+  return sys;
+}
+
+void solve_equilibrium(const Assembly& a, const EquilibriumSystem& sys, const StabilityOptions& o,
+                       StabilityResult& r) {
+  if (sys.rows == 0) return;
+  auto start = std::chrono::steady_clock::now();
   if (o.form == LpForm::Scaled)
     solve_scaled(sys, o, r);
   else
@@ -438,6 +446,13 @@ StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) 
     brick_capacity(a, sys, o, r);
     r.stats.capacity_seconds = seconds_since(start);
   }
+}
+
+StabilityResult analyze_stability(const Assembly& a, const StabilityOptions& o) {
+  StabilityResult r = analyze_contacts(a, o);
+  if (a.bricks.empty()) return r;
+  const EquilibriumSystem sys = build_equilibrium(a, r, o);
+  solve_equilibrium(a, sys, o, r);
   return r;
 }
 

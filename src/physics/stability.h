@@ -96,6 +96,9 @@ struct StabilityResult {
   // build_equilibrium(assembly, graph), and the LP's row duals (Clp's sign: reduced cost =
   // c − Aᵀy, with c = −1 on w). What local_bounds.h starts from; empty otherwise.
   std::vector<double> forces, row_duals;
+  // C_M is a lower bound proven by a force field (step_certifier.h), not the LP's optimum; the
+  // weakest contacts, turning joints and capacities are then not computed.
+  bool certified = false;
 
   double cm_newton() const { return cm / 1000.0; }
   double cm_gf() const { return cm / kGravity; }
@@ -109,6 +112,14 @@ struct StabilityResult {
 // The paper's force-based analysis (section 6, PHYSICS.md): connectivity first, then the LP over
 // everything that reaches the ground.
 StabilityResult analyze_stability(const Assembly& assembly, const StabilityOptions& options = {});
+// analyze_stability in three parts, for callers that look at the system before solving it
+// (step_certifier.h): the contact graph, connectivity and ground; the equilibrium system (the
+// status is Empty or Floating when it has no rows); the LP and what follows from it.
+StabilityResult analyze_contacts(const Assembly& assembly, const StabilityOptions& options);
+EquilibriumSystem build_equilibrium(const Assembly& assembly, StabilityResult& result,
+                                    const StabilityOptions& options);
+void solve_equilibrium(const Assembly& assembly, const EquilibriumSystem& system,
+                       const StabilityOptions& options, StabilityResult& result);
 // With no equilibrium, the joints that turn and must not, each with the least moment about its
 // axis it would have to hold (gf·stud · g): none when even joints that hold do not stand.
 std::vector<std::pair<int, double>> turning_joints(const Assembly& assembly,

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <thread>
 
 #include "core/error.h"
@@ -16,6 +18,7 @@
 #include "ldraw/writer.h"
 #include "physics/force_model.h"
 #include "physics/interior_point.h"
+#include "physics/step_stability.h"
 #include "physics/world_shape.h"
 
 namespace lego::report {
@@ -436,16 +439,20 @@ void judge_assumptions(Audit& audit, const AuditOptions& options) {
 }
 
 // The model after `step`: its bricks and carried parts up to then, on the finished model's ground.
-StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options) {
+// With `start`, a certificate begun from those forces decides it when it shows the step standing
+// (physics/step_stability.h); `forces` then receives the certificate's.
+StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options,
+                     const physics::StepForces* start, physics::StepForces* forces) {
   const Assembly& whole = audit.conversion.assembly;
   Assembly partial;
   partial.origin_ldu = whole.origin_ldu;
   partial.ground_height = audit.stability.graph.ground_height;
   partial.ground_slope = audit.stability.graph.ground_slope;
-  std::vector<int> index(whole.bricks.size(), -1);
+  std::vector<int> index(whole.bricks.size(), -1), whole_index;
   for (int i = 0; i < int(whole.bricks.size()); ++i)
     if (whole.bricks[size_t(i)].source.step <= step) {
       index[size_t(i)] = int(partial.bricks.size());
+      whole_index.push_back(i);
       partial.bricks.push_back(whole.bricks[size_t(i)]);
     }
   for (const CarriedPart& c : whole.carried)
@@ -461,13 +468,84 @@ StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options) 
     s.stable = true;
     return s;
   }
-  const auto r = physics::analyze_stability(partial, options.stability);
+  physics::StepStability analysed = physics::analyze_step(
+      partial, whole_index, start ? *start : physics::StepForces{}, options.stability,
+      start ? std::optional<double>(options.min_cm_gf) : std::nullopt);
+  const physics::StabilityResult& r = analysed.result;
   s.status = r.status;
   s.cm_gf = r.cm_gf();
+  s.certified = r.certified;
   s.floating = int(r.connectivity.floating.size() + r.connectivity.floating_carried.size());
   const Verdict v = verdict_of(r, options.min_cm_gf);
   s.stable = v == Verdict::Stable || v == Verdict::NothingToAnalyse;
+  if (forces && r.certified) *forces = std::move(analysed.forces);
   return s;
+}
+
+// Every step, two at a time, within --max-seconds. Each is certified from the forces of the
+// latest step certified so far; the LP decides the others, and gives the weakest step's C_M.
+void audit_steps(Audit& audit, const AuditOptions& options) {
+  int last = 0;
+  for (const Brick& b : audit.conversion.assembly.bricks) last = std::max(last, b.source.step);
+  for (const CarriedPart& c : audit.conversion.assembly.carried)
+    last = std::max(last, c.source.step);
+  std::vector<StepAudit> analysed(static_cast<size_t>(std::max(last, 0)));
+  std::vector<char> done(analysed.size(), 0);
+  std::atomic<int> next{0};
+  std::mutex latest_mutex;
+  auto latest = std::make_shared<const physics::StepForces>();
+  int latest_step = 0;
+  const auto start = std::chrono::steady_clock::now();
+  auto in_time = [&] { return seconds_since(start) < options.stability.max_seconds; };
+  auto work = [&] {
+    for (int k; in_time() && (k = next++) < last;) {
+      std::shared_ptr<const physics::StepForces> from;
+      {
+        const std::lock_guard lock(latest_mutex);
+        from = latest;
+      }
+      physics::StepForces forces;
+      analysed[size_t(k)] = audit_step(audit, k + 1, options, from.get(), &forces);
+      done[size_t(k)] = 1;
+      if (!forces.empty()) {
+        const std::lock_guard lock(latest_mutex);
+        if (k + 1 > latest_step) {
+          latest_step = k + 1;
+          latest = std::make_shared<const physics::StepForces>(std::move(forces));
+        }
+      }
+    }
+  };
+  {
+    const physics::OneBlasThreadEach blas_threads(last > 1);
+    std::thread second(work);
+    work();
+    second.join();
+  }
+  // The weakest step's C_M exactly (physics::kWeakestStepSolves).
+  for (int solves = 0; solves < physics::kWeakestStepSolves && in_time(); ++solves) {
+    int weakest = -1;
+    for (int k = 0; k < last; ++k)
+      if (done[size_t(k)] && analysed[size_t(k)].stable && analysed[size_t(k)].bricks > 0 &&
+          (weakest < 0 || analysed[size_t(k)].cm_gf < analysed[size_t(weakest)].cm_gf))
+        weakest = k;
+    if (weakest < 0 || !analysed[size_t(weakest)].certified) break;
+    analysed[size_t(weakest)] = audit_step(audit, weakest + 1, options, nullptr, nullptr);
+  }
+  for (int step = 1; step <= last; ++step) {
+    if (!done[size_t(step - 1)]) {
+      audit.unchecked_from_step = step;
+      break;
+    }
+    const StepAudit& s = analysed[size_t(step - 1)];
+    if (s.bricks == 0 && s.status == physics::StabilityStatus::Empty && s.stable) continue;
+    if (!s.stable && !audit.first_failing_step) audit.first_failing_step = step;
+    audit.steps.push_back(s);
+  }
+  if (audit.first_failing_step && audit.verdict == Verdict::Stable)
+    audit.verdict = Verdict::Unstable;
+  else if (audit.unchecked_from_step && audit.verdict == Verdict::Stable)
+    audit.verdict = Verdict::Undecided;
 }
 
 }  // namespace
@@ -606,45 +684,7 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
   audit.stability.turning =
       physics::turning_joints(audit.conversion.assembly, audit.stability, stability);
   audit.verdict = verdict_of(audit.stability, options.min_cm_gf);
-  if (options.steps) {
-    int last = 0;
-    for (const Brick& b : audit.conversion.assembly.bricks) last = std::max(last, b.source.step);
-    for (const CarriedPart& c : audit.conversion.assembly.carried)
-      last = std::max(last, c.source.step);
-    // The steps are independent analyses: two at a time, one BLAS thread each.
-    // They share --max-seconds: a model of ten thousand steps ends undecided, not after hours.
-    std::vector<StepAudit> analysed(static_cast<size_t>(std::max(last, 0)));
-    std::vector<char> done(analysed.size(), 0);
-    std::atomic<int> next{0};
-    const auto steps_start = std::chrono::steady_clock::now();
-    auto work = [&] {
-      for (int k;
-           seconds_since(steps_start) < options.stability.max_seconds && (k = next++) < last;) {
-        analysed[size_t(k)] = audit_step(audit, k + 1, options);
-        done[size_t(k)] = 1;
-      }
-    };
-    {
-      const physics::OneBlasThreadEach blas_threads(last > 1);
-      std::thread second(work);
-      work();
-      second.join();
-    }
-    for (int step = 1; step <= last; ++step) {
-      if (!done[size_t(step - 1)]) {
-        audit.unchecked_from_step = step;
-        break;
-      }
-      const StepAudit& s = analysed[size_t(step - 1)];
-      if (s.bricks == 0 && s.status == physics::StabilityStatus::Empty && s.stable) continue;
-      if (!s.stable && !audit.first_failing_step) audit.first_failing_step = step;
-      audit.steps.push_back(s);
-    }
-    if (audit.first_failing_step && audit.verdict == Verdict::Stable)
-      audit.verdict = Verdict::Unstable;
-    else if (audit.unchecked_from_step && audit.verdict == Verdict::Stable)
-      audit.verdict = Verdict::Undecided;
-  }
+  if (options.steps) audit_steps(audit, options);
   judge_assumptions(audit, options);
   return audit;
 }

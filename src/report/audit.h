@@ -59,6 +59,9 @@ struct StepAudit {
   double cm_gf = 0;
   int floating = 0;  // bricks and carried parts that reach no ground after this step
   bool stable = false;
+  // cm_gf is a certified lower bound (physics/step_stability.h), not the exact C_M: the exact
+  // one is asked of the weakest step alone.
+  bool certified = false;
 };
 
 enum class Verdict {

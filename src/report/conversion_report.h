@@ -19,7 +19,8 @@ struct StepReport {
   double cm_gf = 0;      // -inf (JSON null) when the step has no number
   bool analysed = true;  // false: neither cm_gf nor stands is known (JSON null)
   bool stands = false;
-  std::string why;  // when it does not stand
+  std::string why;         // when it does not stand
+  bool certified = false;  // cm_gf is a certified lower bound (layout::BuildStep::certified)
 };
 
 // One piece of the model (layout/pieces.h).

@@ -245,7 +245,8 @@ td.count {{ font-weight: bold; text-align: right; }}
           it->second, s.number, kWidth, kHeight);
     out += parts_table(s.parts, b.colors);
     if (s.stands) {
-      out += fmt::format("<p class=\"cm\">The model so far: C_M = {} ({}).</p>\n", cm_text(s.cm_gf),
+      out += fmt::format("<p class=\"cm\">The model so far: C_M {} {} ({}).</p>\n",
+                         s.certified ? "&ge;" : "=", cm_text(s.cm_gf),
                          *s.stands ? "it stands" : "it does not stand");
       if (!*s.stands && !s.why.empty())
         out += fmt::format("<p class=\"falls\">Hold it: {}</p>\n", html_escape(s.why));

@@ -21,7 +21,8 @@ struct BookletStep {
   // The model after this step, as brickcheck --steps analyses it; empty when not analysed.
   std::optional<double> cm_gf;  // no value also when the step has no number (no equilibrium)
   std::optional<bool> stands;
-  std::string why;  // when it does not stand
+  bool certified = false;  // cm_gf is a certified lower bound, not the exact C_M
+  std::string why;         // when it does not stand
 };
 
 struct Booklet {

@@ -180,7 +180,8 @@ json render_json(const Audit& a, const AuditOptions& options) {
            {"stable", s.stable},
            {"status", physics::to_string(s.status)},
            {"floating", s.floating},
-           {"cm_gf", number_or_null(s.status == physics::StabilityStatus::Solved, s.cm_gf)}});
+           {"cm_gf", number_or_null(s.status == physics::StabilityStatus::Solved, s.cm_gf)},
+           {"certified", s.certified}});
     j["first_failing_step"] = a.first_failing_step ? json(*a.first_failing_step) : json(nullptr);
     j["unchecked_from_step"] = a.unchecked_from_step ? json(*a.unchecked_from_step) : json(nullptr);
   }

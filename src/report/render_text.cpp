@@ -221,9 +221,10 @@ std::string render_text(const Audit& a, bool quiet) {
   if (!a.steps.empty()) {
     line("  build steps:");
     for (const auto& s : a.steps) {
-      std::string state = s.status == physics::StabilityStatus::Solved
-                              ? fmt::format("C_M = {:9.3f} gf", s.cm_gf)
-                              : std::string(physics::to_string(s.status));
+      std::string state =
+          s.status != physics::StabilityStatus::Solved ? std::string(physics::to_string(s.status))
+          : s.certified ? fmt::format("stands (certified C_M >= {:.3f} gf)", s.cm_gf)
+                        : fmt::format("C_M = {:9.3f} gf", s.cm_gf);
       if (s.floating) state += fmt::format(", {} floating", plural(size_t(s.floating), "part"));
       line(fmt::format("    step {:3}: {:5} bricks  {}{}", s.step, s.bricks, state,
                        s.stable ? "" : "  <- does not stand"));

@@ -573,6 +573,36 @@ TEST(Brickcheck, StepsShareTheTimeBudget) {
   EXPECT_EQ(cut["verdict"], "undecided");
 }
 
+// Steps are shown standing by certificates (forces that balance them, begun from the step
+// before's), which bound C_M from below; the weakest step's C_M is the LP's, exactly.
+TEST(Brickcheck, StepsAreCertifiedAndTheWeakestSolved) {
+  auto path = scratch("certified-steps.ldr");
+  {
+    std::ofstream out(path);
+    out << "0 a wall with a 1x8 reaching out at the top\n";
+    for (int layer = 0; layer < 6; ++layer)
+      for (int k = 0; k < 3; ++k)
+        out << "1 4 " << 80 * k + (layer % 2) * 40 << " " << -24 * layer
+            << " 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n";
+    out << "1 14 260 -144 0 1 0 0 0 1 0 0 0 1 3008.dat\n0 STEP\n";
+  }
+  json j = check_json({"--steps", path.string()}, 0);
+  ASSERT_EQ(j["steps"].size(), 19u);
+  int certified = 0;
+  size_t weakest = 0;
+  for (size_t k = 0; k < j["steps"].size(); ++k) {
+    certified += j["steps"][k]["certified"].get<bool>();
+    if (j["steps"][k]["cm_gf"].get<double>() < j["steps"][weakest]["cm_gf"].get<double>())
+      weakest = k;
+  }
+  EXPECT_GT(certified, 10);
+  EXPECT_FALSE(j["steps"][weakest]["certified"].get<bool>());
+  EXPECT_NEAR(j["steps"][weakest]["cm_gf"].get<double>(), j["cm_gf"].get<double>(), 1e-4)
+      << "the 1x8 at the top is the weakest step, the finished model";
+  const std::string text = run_tool("brickcheck", {"--steps", path.string()}).out;
+  EXPECT_NE(text.find("stands (certified C_M >= "), std::string::npos) << text;
+}
+
 TEST(Brickcheck, BadInputGetsClearMessagesAndExitCodes) {
   auto empty = scratch("empty.ldr");
   std::ofstream(empty) << "0 Nothing here\n0 Name: empty.ldr\n";

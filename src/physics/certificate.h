@@ -1,0 +1,33 @@
+#pragma once
+// A certificate that a model stands, found without solving its LP: forces that balance every
+// body within the limits prove C_M ≥ T − (their largest friction force), since the LP's C_M is
+// the largest such margin over all balancing forces (PHYSICS.md). Build steps need only this
+// (step_stability.h).
+#include <string>
+#include <vector>
+
+#include "physics/force_model.h"
+
+namespace lego::physics {
+
+struct Certificate {
+  bool found = false;
+  double cm = 0;               // C_M is at least this (g·m/s²), when found
+  std::vector<double> forces;  // per column of the system, g·m/s², when found
+  int local_lps = 0;           // bodies whose forces needed a small LP (the rest: least squares)
+  std::string why_not;         // when not found
+};
+
+// Passes each body's load (its weight and what the bodies it holds put on it) to the bodies it
+// rests on, from the bodies farthest from the ground (in contacts) down: a few rows at a time,
+// so the cost grows with the model's size, not as its LP does. Each body takes the least-squares
+// forces without friction when they push only; otherwise the forces whose largest friction is
+// least (a small LP). The forces found are checked against every row of `system` and every
+// bound before they certify anything. Not found: when a body cannot pass its load on within the
+// limits (the LP may still find forces: this is a sufficient test, not an exact one).
+// `start`: forces to begin from, per column (the step before's, or none): the loads they leave
+// unbalanced (the new bricks' weight) are what is passed on.
+Certificate certify(const EquilibriumSystem& system, const ContactGraph& graph,
+                    const std::vector<double>& start = {});
+
+}  // namespace lego::physics
