@@ -73,13 +73,7 @@ void write_instructions(const report::Audit& audit, const fs::path& dir,
         if (s.status == physics::StabilityStatus::Solved) bs.cm_gf = s.cm_gf;
         bs.stands = s.stable;
         bs.certified = s.certified;
-        if (s.stable) break;
-        if (s.floating > 0)
-          bs.why = fmt::format("{} part{} reach no ground", s.floating, s.floating == 1 ? "" : "s");
-        else if (s.status != physics::StabilityStatus::Solved)
-          bs.why = physics::to_string(s.status);
-        else
-          bs.why = fmt::format("C_M {:.3f} gf", s.cm_gf);
+        bs.why = s.why;
       }
   if (audit.stability.status == physics::StabilityStatus::Solved)
     booklet.cm_gf = audit.stability.cm_gf();

@@ -1,6 +1,7 @@
 #include "report/audit.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <algorithm>
 #include <atomic>
 #include <charconv>
@@ -438,6 +439,46 @@ void judge_assumptions(Audit& audit, const AuditOptions& options) {
   if (!as.deciding.empty()) audit.verdict = Verdict::StableByAssumption;
 }
 
+// Why a step does not stand, naming its parts: those that float, else those no forces balance,
+// else the two that the weakest contact joins. At most this many are named.
+constexpr size_t kCulpritsNamed = 3;
+
+void explain_falling_step(const Audit& audit, const physics::StabilityResult& r,
+                          const std::vector<int>& whole_index,
+                          const std::vector<int>& whole_carried_index, double min_cm_gf,
+                          StepAudit& s) {
+  auto name = [&](const std::vector<int>& partial_bricks, const std::vector<int>& partial_carried,
+                  const std::string& what) {
+    for (int b : partial_bricks) s.culprits.push_back(whole_index[size_t(b)]);
+    for (int c : partial_carried) s.carried_culprits.push_back(whole_carried_index[size_t(c)]);
+    std::vector<std::string> names;
+    for (size_t k = 0; k < s.culprits.size() && names.size() < kCulpritsNamed; ++k)
+      names.push_back(describe_brick(audit, s.culprits[k]));
+    for (size_t k = 0; k < s.carried_culprits.size() && names.size() < kCulpritsNamed; ++k)
+      names.push_back(describe_carried(audit, s.carried_culprits[k]));
+    const size_t more = s.culprits.size() + s.carried_culprits.size() - names.size();
+    return fmt::format("{}{}{}", fmt::join(names, "; "),
+                       more ? fmt::format(" and {} more", more) : std::string(), what);
+  };
+  const auto& floating = r.connectivity.floating;
+  const auto& floating_carried = r.connectivity.floating_carried;
+  if (!floating.empty() || !floating_carried.empty()) {
+    s.why = name(
+        floating, floating_carried,
+        floating.size() + floating_carried.size() == 1 ? " reaches no ground" : " reach no ground");
+  } else if (r.status == physics::StabilityStatus::NoEquilibrium && !r.unbalanced.empty()) {
+    s.why = name(r.unbalanced, {}, ": no forces hold it up (it tips or hangs)");
+  } else if (r.status == physics::StabilityStatus::Solved && !r.weakest.empty()) {
+    std::vector<int> pair;
+    for (int b : {r.weakest.front().lower, r.weakest.front().upper})
+      if (b >= 0) pair.push_back(b);
+    s.why = fmt::format("C_M {:.3f} gf, not above {:g}; the weakest contact: {}", s.cm_gf,
+                        min_cm_gf, name(pair, {}, ""));
+  } else {
+    s.why = physics::to_string(r.status);
+  }
+}
+
 // The model after `step`: its bricks and carried parts up to then, on the finished model's ground.
 // With `start`, a certificate begun from those forces decides it when it shows the step standing
 // (physics/step_stability.h); `forces` then receives the certificate's.
@@ -448,15 +489,18 @@ StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options,
   partial.origin_ldu = whole.origin_ldu;
   partial.ground_height = audit.stability.graph.ground_height;
   partial.ground_slope = audit.stability.graph.ground_slope;
-  std::vector<int> index(whole.bricks.size(), -1), whole_index;
+  std::vector<int> index(whole.bricks.size(), -1), whole_index, whole_carried_index;
   for (int i = 0; i < int(whole.bricks.size()); ++i)
     if (whole.bricks[size_t(i)].source.step <= step) {
       index[size_t(i)] = int(partial.bricks.size());
       whole_index.push_back(i);
       partial.bricks.push_back(whole.bricks[size_t(i)]);
     }
-  for (const CarriedPart& c : whole.carried)
-    if (c.source.step <= step) partial.carried.push_back(c);
+  for (int i = 0; i < int(whole.carried.size()); ++i)
+    if (whole.carried[size_t(i)].source.step <= step) {
+      whole_carried_index.push_back(i);
+      partial.carried.push_back(whole.carried[size_t(i)]);
+    }
   for (const auto& load : whole.loads)
     if (index[size_t(load.brick)] >= 0)
       partial.loads.push_back(
@@ -479,6 +523,8 @@ StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options,
   const Verdict v = verdict_of(r, options.min_cm_gf);
   s.stable = v == Verdict::Stable || v == Verdict::NothingToAnalyse;
   if (forces && r.certified) *forces = std::move(analysed.forces);
+  if (!s.stable)
+    explain_falling_step(audit, r, whole_index, whole_carried_index, options.min_cm_gf, s);
   return s;
 }
 

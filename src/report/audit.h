@@ -62,6 +62,10 @@ struct StepAudit {
   // cm_gf is a certified lower bound (physics/step_stability.h), not the exact C_M: the exact
   // one is asked of the weakest step alone.
   bool certified = false;
+  // When it does not stand: why, naming the parts (file:line) that float, tip or hold least.
+  std::string why;
+  std::vector<int> culprits;          // bricks of the whole model (AssemblyConversion::assembly)
+  std::vector<int> carried_culprits;  // its carried parts (Assembly::carried)
 };
 
 enum class Verdict {

@@ -173,7 +173,10 @@ json render_json(const Audit& a, const AuditOptions& options) {
         {{"a", brick_json(a, w.lower)}, {"b", brick_json(a, w.upper)}, {"dual", w.share}});
   if (options.steps) {
     j["steps"] = json::array();
-    for (const auto& s : a.steps)
+    for (const auto& s : a.steps) {
+      json culprits = json::array();
+      for (int b : s.culprits) culprits.push_back(brick_json(a, b));
+      for (int c : s.carried_culprits) culprits.push_back(carried_json(a, c));
       j["steps"].push_back(
           {{"step", s.step},
            {"bricks", s.bricks},
@@ -181,7 +184,10 @@ json render_json(const Audit& a, const AuditOptions& options) {
            {"status", physics::to_string(s.status)},
            {"floating", s.floating},
            {"cm_gf", number_or_null(s.status == physics::StabilityStatus::Solved, s.cm_gf)},
-           {"certified", s.certified}});
+           {"certified", s.certified},
+           {"why", s.stable ? json(nullptr) : json(s.why)},
+           {"parts", culprits}});
+    }
     j["first_failing_step"] = a.first_failing_step ? json(*a.first_failing_step) : json(nullptr);
     j["unchecked_from_step"] = a.unchecked_from_step ? json(*a.unchecked_from_step) : json(nullptr);
   }

@@ -227,7 +227,7 @@ std::string render_text(const Audit& a, bool quiet) {
                         : fmt::format("C_M = {:9.3f} gf", s.cm_gf);
       if (s.floating) state += fmt::format(", {} floating", plural(size_t(s.floating), "part"));
       line(fmt::format("    step {:3}: {:5} bricks  {}{}", s.step, s.bricks, state,
-                       s.stable ? "" : "  <- does not stand"));
+                       s.stable ? "" : "  <- does not stand: " + s.why));
     }
   }
   line(fmt::format(

@@ -101,6 +101,33 @@ TEST(Brickcheck, StepsCatchTheArchBeforeItsKeystone) {
   EXPECT_FALSE(steps["steps"][5]["stable"]);
   EXPECT_TRUE(steps["steps"][6]["stable"]);
   EXPECT_EQ(steps["steps"][6]["bricks"], 15);
+  // The falling step names the parts its weakest contact joins, by file:line.
+  const json& falls = steps["steps"][5];
+  EXPECT_NE(falls["why"].get<std::string>().find("arch-keystone.ldr:13 3004"), std::string::npos)
+      << falls["why"];
+  ASSERT_EQ(falls["parts"].size(), 2u);
+  EXPECT_EQ(falls["parts"][0]["line"], 13);
+  EXPECT_TRUE(steps["steps"][4]["why"].is_null());
+  EXPECT_TRUE(steps["steps"][4]["parts"].empty());
+}
+
+// A step whose new part floats names it (file:line), in the text as in the JSON.
+TEST(Brickcheck, AFloatingStepNamesItsPart) {
+  auto path = scratch("floating-step.ldr");
+  std::ofstream(path) << "0 a brick, then one in the air\n"
+                         "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                         "1 14 0 -120 0 1 0 0 0 1 0 0 0 1 3003.dat\n0 STEP\n";
+  json j = check_json({"--steps", path.string()}, 1);
+  ASSERT_EQ(j["steps"].size(), 2u);
+  EXPECT_EQ(j["first_failing_step"], 2);
+  const json& s = j["steps"][1];
+  EXPECT_NE(s["why"].get<std::string>().find("floating-step.ldr:4 3003"), std::string::npos)
+      << s["why"];
+  EXPECT_NE(s["why"].get<std::string>().find("reaches no ground"), std::string::npos) << s["why"];
+  ASSERT_EQ(s["parts"].size(), 1u);
+  EXPECT_EQ(s["parts"][0]["line"], 4);
+  const std::string text = run_tool("brickcheck", {"--steps", path.string()}).out;
+  EXPECT_NE(text.find("does not stand: floating-step.ldr:4 3003"), std::string::npos) << text;
 }
 
 // A carried part touches with its studs too (PHYSICS.md "Carried parts": what it touches or
