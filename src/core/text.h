@@ -22,4 +22,13 @@ inline std::string one_line(std::string_view text) {
   return out;
 }
 
+// A part's title without the marks the LDraw library puts before it: '~' (a sub-part, or moved
+// or obsolete), '_' (a physical colour), '=' (an alias), '|' (a sub-part's own), and spaces.
+inline std::string_view without_title_marks(std::string_view title) {
+  while (!title.empty() && (title.front() == '~' || title.front() == '_' || title.front() == '=' ||
+                            title.front() == '|' || title.front() == ' '))
+    title.remove_prefix(1);
+  return title;
+}
+
 }  // namespace lego

@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "core/lattice.h"
+#include "core/text.h"
 
 namespace lego::parts {
 namespace {
@@ -154,10 +155,7 @@ double snap(double v) {
 // names a part by its kind first ("Hinge Plate 1 x 2 ...", "Wheel 11 x 12 ..."), while "Plate
 // 1 x 4 with 2 Wheel Pins" is a plate.
 std::string first_word(const PartGeometry& g) {
-  std::string_view title = g.title;
-  while (!title.empty() && (title.front() == '~' || title.front() == '_' || title.front() == '=' ||
-                            title.front() == ' '))
-    title.remove_prefix(1);
+  const std::string_view title = without_title_marks(g.title);
   return std::string(title.substr(0, title.find(' ')));
 }
 
@@ -167,10 +165,7 @@ bool minifigure(const PartGeometry& g) {
 
 std::string carried_by_name(const PartGeometry& g) {
   const std::string first = first_word(g);
-  std::string_view title = g.title;
-  while (!title.empty() && (title.front() == '~' || title.front() == '_' || title.front() == '=' ||
-                            title.front() == ' '))
-    title.remove_prefix(1);
+  const std::string_view title = without_title_marks(g.title);
   if (minifigure(g)) return "a minifigure part (its joints are not modelled)";
   if (first == "Hinge") return "a hinge half without cells of its own (it turns)";
   if (first == "Turntable") return "a turntable (it turns)";

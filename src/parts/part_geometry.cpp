@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "core/text.h"
 #include "ldraw/tokens.h"
 #include "ldraw/transform.h"
 
@@ -269,9 +270,7 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
   std::sort(g->missing.begin(), g->missing.end());
   g->missing.erase(std::unique(g->missing.begin(), g->missing.end()), g->missing.end());
   if (g->category.empty()) {
-    std::string_view title = g->title;
-    while (!title.empty() && (title.front() == '~' || title.front() == '_' || title.front() == '='))
-      title.remove_prefix(1);
+    std::string_view title = without_title_marks(g->title);
     g->category = std::string(next_token(title));
   }
   done_[file.key] = g;

@@ -9,6 +9,7 @@
 
 #include "core/brick_catalog.h"
 #include "core/error.h"
+#include "core/text.h"
 #include "ldraw/color_table.h"
 #include "ldraw/writer.h"
 
@@ -54,7 +55,9 @@ bool have(const char* program) {
   return std::system(fmt::format("command -v {} >/dev/null 2>&1", program).c_str()) == 0;
 }
 
-// A part's name: the catalog's, else the first line of its own file.
+// A part's name as a builder reads it: the catalog's, else the first line of its own file
+// without the library's marks ("=Brick 1 x 1", "~Plate 1 x 2 (Obsolete)" are a brick and a
+// plate to the builder).
 std::string part_name(const ldraw::PlacedPart& p) {
   if (const BrickType* t = BrickCatalog::standard().find(p.part)) return t->name;
   if (!p.definition.empty()) {
@@ -62,7 +65,11 @@ std::string part_name(const ldraw::PlacedPart& p) {
     std::string line;
     if (std::getline(in, line)) {
       while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-      if (line.starts_with("0 ")) return line.substr(2);
+      if (line.starts_with("0 ")) {
+        std::string name(without_title_marks(std::string_view(line).substr(2)));
+        if (name.ends_with(" (Obsolete)")) name.resize(name.size() - 11);
+        if (!name.empty()) return name;
+      }
     }
   }
   return p.part;

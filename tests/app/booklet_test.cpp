@@ -132,6 +132,27 @@ TEST_F(Booklet, WithoutLeoCadItHasNoPicturesAndSaysSo) {
   EXPECT_NE(html.find("it stands"), std::string::npos);
 }
 
+// Parts are named as a builder reads them, without the library's marks: an alias ("=Plate 1 x
+// 1") is a plate, an obsolete part ("~Brick 1 x 2 x 5 (Obsolete)") a brick.
+TEST_F(Booklet, PartNamesWithoutTheLibrarysMarks) {
+  SKIP_WITHOUT_SHARED();
+  const fs::path model = dir_ / "marks.ldr", book = dir_ / "marks-book";
+  std::ofstream(model) << "0 marks\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                          "1 1 -30 -144 0 1 0 0 0 1 0 0 0 1 2454.dat\n"
+                          "1 14 30 -32 0 1 0 0 0 1 0 0 0 1 30008.dat\n0 STEP\n";
+  const auto run = run_tool("brickcheck",
+                            {"--ldraw-dir", (test::shared_dir() / "ldraw-library").string(),
+                             "--instructions", book.string(), model.string()},
+                            "PATH=/nonexistent");
+  const std::string html = text_of(book / "index.html");
+  ASSERT_FALSE(html.empty()) << run.out << run.err;
+  EXPECT_NE(html.find(">Plate  1 x  1<"), std::string::npos) << html;
+  EXPECT_NE(html.find(">Brick  1 x  2 x  5<"), std::string::npos) << html;
+  EXPECT_EQ(html.find("=Plate"), std::string::npos);
+  EXPECT_EQ(html.find("~Brick"), std::string::npos);
+  EXPECT_EQ(html.find("(Obsolete)"), std::string::npos);
+}
+
 // A folder with the user's own files is refused and left as it was; a booklet written before is
 // replaced.
 TEST_F(Booklet, NeverWritesOverAFolderOfOtherFiles) {
