@@ -209,7 +209,9 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
   s.rules->limits.use_up(lay);
   // A building order in which every step stands (the paper's first limitation).
   t = Clock::now();
-  out.order = layout::plan_build_order(out.la.assembly, s.order);
+  layout::BuildOrderOptions order = s.order;
+  order.describe = [&out](int brick) { return describe_brick(out, brick); };
+  out.order = layout::plan_build_order(out.la.assembly, order);
   const std::vector<int> moved = layout::apply_build_order(out.la.assembly, out.order);
   std::vector<int> layout_id(moved.size());
   for (size_t k = 0; k < moved.size(); ++k) layout_id[k] = out.la.layout_id[size_t(moved[k])];

@@ -208,15 +208,28 @@ StepAnalysis analyse_step(const Planner& p, std::vector<int> fresh,
   s.floating = int(r.connectivity.floating.size());
   s.stands = r.stable(options.min_cm_gf);
   if (!s.stands) {
-    auto whole = [&](int b) { return b < 0 ? physics::kGround : out.whole_index[size_t(b)]; };
+    auto name = [&](int partial_brick) {
+      if (partial_brick < 0) return std::string("the ground");
+      const int b = out.whole_index[size_t(partial_brick)];
+      return options.describe ? options.describe(b) : describe(p.a, b);
+    };
+    auto names = [&](const std::vector<int>& bricks) {
+      std::string text;
+      for (size_t k = 0; k < std::min<size_t>(bricks.size(), 3); ++k)
+        text += (k ? "; " : "") + name(bricks[k]);
+      if (bricks.size() > 3) text += fmt::format(" and {} more", bricks.size() - 3);
+      return text;
+    };
     if (s.floating > 0)
-      s.why = fmt::format("{} bricks reach no ground", s.floating);
+      s.why = names(r.connectivity.floating) +
+              (s.floating == 1 ? " reaches no ground" : " reach no ground");
+    else if (r.status == physics::StabilityStatus::NoEquilibrium && !r.unbalanced.empty())
+      s.why = names(r.unbalanced) + ": no forces hold it up (it tips or hangs)";
     else if (r.status != physics::StabilityStatus::Solved)
       s.why = physics::to_string(r.status);
     else if (!r.weakest.empty())
-      s.why = fmt::format("C_M {:.3f} gf at {} holding {}", s.cm_gf,
-                          describe(p.a, whole(r.weakest.front().lower)),
-                          describe(p.a, whole(r.weakest.front().upper)));
+      s.why = fmt::format("C_M {:.3f} gf at {} holding {}", s.cm_gf, name(r.weakest.front().lower),
+                          name(r.weakest.front().upper));
     else
       s.why = fmt::format("C_M {:.3f} gf", s.cm_gf);
   }

@@ -24,6 +24,9 @@ struct BuildOrderOptions {
   // Two steps analysed at a time (the next planned as if this one stands); false: one by one.
   bool side_by_side = true;
   std::function<void(int step, int steps_so_far, double seconds)> progress;  // may be empty
+  // How a step that falls names a brick of the assembly (legolize: its part and voxel, as
+  // --load takes them); empty: its part and lattice corner.
+  std::function<std::string(int brick)> describe;
 };
 
 // The model after one step, as brickcheck --steps analyses it (no external loads: they are

@@ -625,6 +625,8 @@ TEST(Legolize, StepsThatFallAreNamedWithWhy) {
     if (!step["stands"].get<bool>()) {
       ++falling;
       EXPECT_NE(step["why"].get<std::string>().find("holding"), std::string::npos) << step;
+      // Bricks are named by voxel, as --load and the summary's weakest contact name them.
+      EXPECT_NE(step["why"].get<std::string>().find(" at voxel "), std::string::npos) << step;
       EXPECT_NE(run.out.find("step " + std::to_string(step["step"].get<int>()) + " falls: "),
                 std::string::npos);
     }
