@@ -4,6 +4,7 @@
 #include <cctype>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace lego {
 
@@ -19,6 +20,17 @@ inline std::string one_line(std::string_view text) {
   std::string out(text);
   for (char& c : out)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  return out;
+}
+
+// How many parts a message names before it says "and N more".
+inline constexpr size_t kPartsNamed = 3;
+
+// "a; b; c and 4 more": the names shown (at most kPartsNamed) of `total` things.
+inline std::string named_few(const std::vector<std::string>& shown, size_t total) {
+  std::string out;
+  for (size_t k = 0; k < shown.size(); ++k) out += (k ? "; " : "") + shown[k];
+  if (total > shown.size()) out += " and " + std::to_string(total - shown.size()) + " more";
   return out;
 }
 

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "core/stopwatch.h"
+#include "core/text.h"
 #include "physics/contact_graph.h"
 #include "physics/interior_point.h"
 #include "physics/step_stability.h"
@@ -63,13 +64,27 @@ int BuildOrder::certified_steps() const {
       std::count_if(steps.begin(), steps.end(), [](const BuildStep& s) { return s.certified; }));
 }
 
-bool BuildOrder::weakest_is_a_bound() const {
-  const BuildStep* weakest = nullptr;
-  for (const BuildStep& s : steps)
+namespace {
+
+// The analysed step with the smallest C_M among those that have one, or -1.
+int weakest_solved_step(const std::vector<BuildStep>& steps) {
+  int weakest = -1;
+  for (int k = 0; k < int(steps.size()); ++k) {
+    const BuildStep& s = steps[size_t(k)];
     if (s.analysed && s.status == physics::StabilityStatus::Solved &&
-        (!weakest || s.cm_gf < weakest->cm_gf))
-      weakest = &s;
-  return weakest && weakest->certified && weakest->cm_gf <= min_cm_gf();
+        (weakest < 0 || s.cm_gf < steps[size_t(weakest)].cm_gf))
+      weakest = k;
+  }
+  return weakest;
+}
+
+}  // namespace
+
+bool BuildOrder::weakest_is_a_bound() const {
+  const int weakest = weakest_solved_step(steps);
+  // A step with no number (no equilibrium) is weaker than any bound.
+  return weakest >= 0 && steps[size_t(weakest)].certified &&
+         steps[size_t(weakest)].cm_gf <= min_cm_gf();
 }
 
 double BuildOrder::min_cm_gf() const {
@@ -214,11 +229,10 @@ StepAnalysis analyse_step(const Planner& p, std::vector<int> fresh,
       return options.describe ? options.describe(b) : describe(p.a, b);
     };
     auto names = [&](const std::vector<int>& bricks) {
-      std::string text;
-      for (size_t k = 0; k < std::min<size_t>(bricks.size(), 3); ++k)
-        text += (k ? "; " : "") + name(bricks[k]);
-      if (bricks.size() > 3) text += fmt::format(" and {} more", bricks.size() - 3);
-      return text;
+      std::vector<std::string> shown;
+      for (size_t k = 0; k < std::min(bricks.size(), kPartsNamed); ++k)
+        shown.push_back(name(bricks[k]));
+      return named_few(shown, bricks.size());
     };
     if (s.floating > 0)
       s.why = names(r.connectivity.floating) +
@@ -288,13 +302,7 @@ namespace {
 void solve_weakest_step_exactly(const Assembly& a, const BuildOrderOptions& options,
                                 BuildOrder& order) {
   for (int solves = 0; solves < physics::kWeakestStepSolves; ++solves) {
-    int weakest = -1;
-    for (int k = 0; k < int(order.steps.size()); ++k) {
-      const BuildStep& s = order.steps[size_t(k)];
-      if (s.analysed && s.status == physics::StabilityStatus::Solved &&
-          (weakest < 0 || s.cm_gf < order.steps[size_t(weakest)].cm_gf))
-        weakest = k;
-    }
+    const int weakest = weakest_solved_step(order.steps);
     if (weakest < 0 || !order.steps[size_t(weakest)].certified) return;
     std::vector<char> in(a.bricks.size(), 0);
     for (size_t i = 0; i < a.bricks.size(); ++i) in[i] = order.step_of[i] <= weakest + 1;

@@ -96,7 +96,7 @@ struct StabilityResult {
   // build_equilibrium(assembly, graph), and the LP's row duals (Clp's sign: reduced cost =
   // c − Aᵀy, with c = −1 on w). What local_bounds.h starts from; empty otherwise.
   std::vector<double> forces, row_duals;
-  // C_M is a lower bound proven by a force field (step_certifier.h), not the LP's optimum; the
+  // C_M is a lower bound proven by a force field (step_stability.h), not the LP's optimum; the
   // weakest contacts, turning joints and capacities are then not computed.
   bool certified = false;
 
@@ -113,7 +113,7 @@ struct StabilityResult {
 // everything that reaches the ground.
 StabilityResult analyze_stability(const Assembly& assembly, const StabilityOptions& options = {});
 // analyze_stability in three parts, for callers that look at the system before solving it
-// (step_certifier.h): the contact graph, connectivity and ground; the equilibrium system (the
+// (step_stability.h): the contact graph, connectivity and ground; the equilibrium system (the
 // status is Empty or Floating when it has no rows); the LP and what follows from it.
 StabilityResult analyze_contacts(const Assembly& assembly, const StabilityOptions& options);
 EquilibriumSystem build_equilibrium(const Assembly& assembly, StabilityResult& result,

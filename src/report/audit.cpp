@@ -1,7 +1,6 @@
 #include "report/audit.h"
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 #include <algorithm>
 #include <atomic>
 #include <charconv>
@@ -440,9 +439,7 @@ void judge_assumptions(Audit& audit, const AuditOptions& options) {
 }
 
 // Why a step does not stand, naming its parts: those that float, else those no forces balance,
-// else the two that the weakest contact joins. At most this many are named.
-constexpr size_t kCulpritsNamed = 3;
-
+// else the two that the weakest contact joins.
 void explain_falling_step(const Audit& audit, const physics::StabilityResult& r,
                           const std::vector<int>& whole_index,
                           const std::vector<int>& whole_carried_index, double min_cm_gf,
@@ -451,14 +448,12 @@ void explain_falling_step(const Audit& audit, const physics::StabilityResult& r,
                   const std::string& what) {
     for (int b : partial_bricks) s.culprits.push_back(whole_index[size_t(b)]);
     for (int c : partial_carried) s.carried_culprits.push_back(whole_carried_index[size_t(c)]);
-    std::vector<std::string> names;
-    for (size_t k = 0; k < s.culprits.size() && names.size() < kCulpritsNamed; ++k)
-      names.push_back(describe_brick(audit, s.culprits[k]));
-    for (size_t k = 0; k < s.carried_culprits.size() && names.size() < kCulpritsNamed; ++k)
-      names.push_back(describe_carried(audit, s.carried_culprits[k]));
-    const size_t more = s.culprits.size() + s.carried_culprits.size() - names.size();
-    return fmt::format("{}{}{}", fmt::join(names, "; "),
-                       more ? fmt::format(" and {} more", more) : std::string(), what);
+    std::vector<std::string> shown;
+    for (size_t k = 0; k < s.culprits.size() && shown.size() < kPartsNamed; ++k)
+      shown.push_back(describe_brick(audit, s.culprits[k]));
+    for (size_t k = 0; k < s.carried_culprits.size() && shown.size() < kPartsNamed; ++k)
+      shown.push_back(describe_carried(audit, s.carried_culprits[k]));
+    return named_few(shown, s.culprits.size() + s.carried_culprits.size()) + what;
   };
   const auto& floating = r.connectivity.floating;
   const auto& floating_carried = r.connectivity.floating_carried;
