@@ -10,6 +10,7 @@ packages=(
   nlohmann-json3-dev libstb-dev libsuitesparse-dev
   libopenblas0-pthread   # BLAS for CHOLMOD's supernodal factorization: 2-3x the reference BLAS
   leocad xvfb xauth   # real clients for rendering tests
+  assimp-testmodels   # real meshes (textured, several objects) for legolize's tests
   chromium            # opens the instructions booklet in tests (headless)
 )
 missing=()
