@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -98,6 +99,17 @@ Load column_on(const EquilibriumSystem& s, int column, int body) {
 // bunny's 44 at a tenth more time.
 constexpr int kPasses = 8;
 
+// A body's rows balanced to this fraction of the largest load are not passed on: 1e-12 had
+// every body of a step begun from the LP's forces pass on its rounding (2,700 small LPs for a
+// bunny's 30 new bricks).
+constexpr double kBalanced = 1e-9;
+
+// How far (in contacts) the bodies that share a load a body cannot pass on alone reach.
+constexpr int kWindowHops[] = {2};
+// Shared loads cost a larger LP each (tens of bodies): a certificate that needs more is left
+// to the whole model's LP.
+constexpr int kMaxWindows = 32;
+
 // A body's largest friction that leaves ample margin for what is passed on below it.
 constexpr double kAmpleFriction = 0.25 * kMaxFrictionLoad;
 
@@ -132,33 +144,41 @@ bool pass_on_pushing(const std::vector<Load>& a, const std::vector<ForceKind>& k
   return (passed - load).norm() <= tolerance_for(load);
 }
 
-// The forces that pass `load` on, added to `base`, with the least largest friction:
-// min t, A·x = load, base_f + x_f ≤ t, base + x within the bounds.
-bool pass_on_least_friction(const std::vector<Load>& a, const std::vector<ForceKind>& kind,
-                            const std::vector<double>& base, const Load& load,
-                            std::vector<double>& x, double& largest_friction) {
+// The forces on `columns` that balance the rows of the bodies `window` leaves unbalanced, added
+// to `x`, with the least largest friction: min t, A_W·dx = unbalanced_W, x_f + dx_f ≤ t, x + dx
+// within the bounds. Rows of bodies outside the window are not held: the caller gives only
+// columns whose other body may take what they pass on.
+bool pass_on_least_friction(const EquilibriumSystem& s, const std::vector<int>& window,
+                            const std::vector<int>& columns, const std::vector<double>& x,
+                            const std::vector<double>& unbalanced, std::vector<double>& dx,
+                            double& largest_friction) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   // A little cost on what is passed beyond the largest friction: with none, the LP leaves
   // support forces at any value its vertex happens to have, and their twists pile up below.
   constexpr double kPassing = 1e-3;
+  constexpr int kRows = EquilibriumSystem::kEquations;
+  std::unordered_map<int, int> slot;  // body -> its first row in the LP
+  for (int b : window) slot.emplace(b, int(slot.size()) * kRows);
   LpData lp;
-  const int n = int(a.size());
-  int frictions = 0;
-  for (ForceKind k : kind) frictions += k == ForceKind::Friction;
-  lp.rows = 6 + frictions;
-  int next_friction_row = 6;
+  lp.rows = int(window.size()) * kRows;
   std::vector<std::pair<int, double>> entries;
   auto entries_of = [&](int j, double sign) {
     entries.clear();
-    for (int r = 0; r < 6; ++r)
-      if (a[size_t(j)][r] != 0) entries.emplace_back(r, sign * a[size_t(j)][r]);
+    for (int e = s.column_start[size_t(j)]; e < s.column_start[size_t(j) + 1]; ++e) {
+      const int row = s.row_index[size_t(e)];
+      const auto it = slot.find(EquilibriumSystem::body_of_row(row));
+      if (it != slot.end() && s.value[size_t(e)] != 0)
+        entries.emplace_back(it->second + row % kRows, sign * s.value[size_t(e)]);
+    }
   };
-  for (int j = 0; j < n; ++j) {
-    const double b = base[size_t(j)];
-    switch (kind[size_t(j)]) {
+  std::vector<double> friction_upper;
+  for (int j : columns) {
+    const double b = x[size_t(j)];
+    switch (s.kind[size_t(j)]) {
       case ForceKind::Friction:
         entries_of(j, 1);
-        entries.emplace_back(next_friction_row++, 1.0);
+        entries.emplace_back(lp.rows + int(friction_upper.size()), 1.0);
+        friction_upper.push_back(-b);
         lp.add_column(-b, kMaxFrictionLoad - b, kPassing, entries);
         break;
       case ForceKind::Normal:
@@ -174,26 +194,35 @@ bool pass_on_least_friction(const std::vector<Load>& a, const std::vector<ForceK
     }
   }
   std::vector<std::pair<int, double>> t_entries;
-  for (int r = 6; r < lp.rows; ++r) t_entries.emplace_back(r, -1.0);
+  for (size_t r = 0; r < friction_upper.size(); ++r) t_entries.emplace_back(lp.rows + int(r), -1.0);
   lp.add_column(0.0, kMaxFrictionLoad, 1.0, t_entries);
-  for (int r = 0; r < 6; ++r) {
-    lp.row_lower.push_back(load[r]);
-    lp.row_upper.push_back(load[r]);
-  }
-  for (int j = 0; j < n; ++j)
-    if (kind[size_t(j)] == ForceKind::Friction) {
-      lp.row_lower.push_back(-inf);
-      lp.row_upper.push_back(-base[size_t(j)]);
+  for (int b : window)
+    for (int r = 0; r < kRows; ++r) {
+      const double load = unbalanced[size_t(EquilibriumSystem::row(b, r))];
+      lp.row_lower.push_back(load);
+      lp.row_upper.push_back(load);
     }
+  lp.rows += int(friction_upper.size());
+  for (double u : friction_upper) {
+    lp.row_lower.push_back(-inf);
+    lp.row_upper.push_back(u);
+  }
   // Unscaled: the rows are forces and moments of one body, alike in size; and Clp's scaling
   // called some of these feasible problems infeasible (a body on two single knobs, a twist).
-  const LpSolution s = solve_lp(lp, LpMethod::DualSimplex, false, false, 1.0);
-  if (s.outcome != LpOutcome::Optimal) return false;
-  largest_friction = s.x.back();
-  x.assign(size_t(n), 0.0);
-  for (int j = 0, column = 0; j < n; ++j) {
-    x[size_t(j)] = s.x[size_t(column++)];
-    if (kind[size_t(j)] == ForceKind::Support) x[size_t(j)] -= s.x[size_t(column++)];
+  const LpSolution solution = solve_lp(lp, LpMethod::DualSimplex, false, false, 1.0);
+  if (solution.outcome != LpOutcome::Optimal) return false;
+  largest_friction = solution.x.back();
+  dx.assign(columns.size(), 0.0);
+  for (size_t k = 0, column = 0; k < columns.size(); ++k) {
+    const int j = columns[k];
+    dx[k] = solution.x[column++];
+    if (s.kind[size_t(j)] == ForceKind::Support)
+      dx[k] -= solution.x[column++];
+    else  // within the bounds: Clp keeps them to 1e-7, the rows then balanced to as much
+      dx[k] = std::clamp(dx[k], -x[size_t(j)],
+                         s.kind[size_t(j)] == ForceKind::Friction
+                             ? kMaxFrictionLoad - x[size_t(j)]
+                             : std::numeric_limits<double>::infinity());
   }
   return true;
 }
@@ -235,6 +264,44 @@ Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
   std::vector<double> base, local_x, candidate;
   std::vector<char> hung(static_cast<size_t>(bodies), 0);
 
+  // When a body cannot pass its load on alone, the bodies near it already passed on share it:
+  // one LP over them, their rows held balanced, passing on to bodies not yet passed on and the
+  // ground (a cantilever's load goes up into the brick that clamps it, and down its other side).
+  // Sets `local` and `local_x`.
+  std::vector<int> window, hops(static_cast<size_t>(bodies), -1);
+  int windows = 0;
+  auto pass_on_around = [&](int b) {
+    for (int radius : kWindowHops) {
+      if (++windows > kMaxWindows) return false;
+      window.assign(1, b);
+      hops[size_t(b)] = 0;
+      for (size_t q = 0; q < window.size(); ++q) {
+        const int w = window[q];
+        if (hops[size_t(w)] == radius) continue;
+        for (int j : body_columns[size_t(w)]) {
+          const int other = columns[size_t(j)].other_than(w);
+          if (other != kNone && hops[size_t(other)] < 0 && rank[size_t(other)] < rank[size_t(b)]) {
+            hops[size_t(other)] = hops[size_t(w)] + 1;
+            window.push_back(other);
+          }
+        }
+      }
+      local.clear();
+      for (int w : window)
+        for (int j : body_columns[size_t(w)]) {
+          const int other = columns[size_t(j)].other_than(w);
+          const bool inside = other != kNone && hops[size_t(other)] >= 0;
+          if (inside && other < w) continue;  // listed from the other body
+          if (other == kNone || inside || rank[size_t(other)] > rank[size_t(b)]) local.push_back(j);
+        }
+      for (int w : window) hops[size_t(w)] = -1;
+      ++out.local_lps;
+      double t = 0;
+      if (pass_on_least_friction(s, window, local, x, unbalanced, local_x, t)) return true;
+    }
+    return false;
+  };
+
   // One pass from the farthest body down; the body that cannot pass its load on, or -1.
   auto sweep = [&]() -> int {
     x = start;
@@ -245,7 +312,8 @@ Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
     for (int b : order) {
       if (distance[size_t(b)] == kUnreached) return b;
       const Load load = Eigen::Map<const Load>(&unbalanced[size_t(EquilibriumSystem::row(b, 0))]);
-      if (load.lpNorm<Eigen::Infinity>() <= 1e-12 * scale) continue;  // balanced as it started
+      // Balanced as it started, to well within the check below (the LP's forces to 1e-9 or so).
+      if (load.lpNorm<Eigen::Infinity>() <= kBalanced * scale) continue;
       // Pushing down first, through carrying contacts to the ground and bodies nearer it, with
       // least squares; then the LP through every carrying contact with a body not yet passed on;
       // then, when that needs much friction or none is found, through faces side by side too:
@@ -276,7 +344,7 @@ Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
         }
         ++out.local_lps;
         double t = 0;
-        if (pass_on_least_friction(a, kind, base, load, candidate, t) && t < least) {
+        if (pass_on_least_friction(s, {b}, local, x, unbalanced, candidate, t) && t < least) {
           least = t;
           chosen = local;
           local_x.swap(candidate);
@@ -286,6 +354,7 @@ Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
       }
       if (passed && !chosen.empty()) local.swap(chosen);
       chosen.clear();
+      if (!passed) passed = pass_on_around(b);
       if (!passed) return b;
       for (size_t k = 0; k < local.size(); ++k) {
         x[size_t(local[k])] += local_x[k];

@@ -22,11 +22,12 @@ struct Certificate {
 // rests on, from the bodies farthest from the ground (in contacts) down: a few rows at a time,
 // so the cost grows with the model's size, not as its LP does. Each body takes the least-squares
 // forces without friction when they push only; otherwise the forces whose largest friction is
-// least (a small LP). The forces found are checked against every row of `system` and every
-// bound before they certify anything. Not found: when a body cannot pass its load on within the
-// limits (the LP may still find forces: this is a sufficient test, not an exact one).
-// `start`: forces to begin from, per column (the step before's, or none): the loads they leave
-// unbalanced (the new bricks' weight) are what is passed on.
+// least (a small LP); a body that cannot alone shares its load with the bodies near it already
+// passed on (one LP over them). The forces found are checked against every row of `system` and
+// every bound before they certify anything. Not found: when a body cannot pass its load on within
+// the limits (the LP may still find forces: this is a sufficient test, not an exact one). `start`:
+// forces to begin from, per column (the step before's, or none): the loads they leave unbalanced
+// (the new bricks' weight) are what is passed on.
 Certificate certify(const EquilibriumSystem& system, const ContactGraph& graph,
                     const std::vector<double>& start = {});
 

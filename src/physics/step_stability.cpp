@@ -35,15 +35,15 @@ StepForces keyed(const std::vector<uint64_t>& keys, const std::vector<double>& f
 
 StepStability analyze_step(const Assembly& partial, const std::vector<int>& whole_index,
                            const StepForces& start, const StabilityOptions& options,
-                           std::optional<double> certify_above_gf) {
+                           std::optional<double> certify_above_gf, bool solve) {
   StepStability out;
   StabilityResult& r = out.result;
   r = analyze_contacts(partial, options);
   if (partial.bricks.empty()) return out;
   const EquilibriumSystem sys = build_equilibrium(partial, r, options);
   if (sys.rows == 0) return out;
+  const std::vector<uint64_t> keys = column_keys(sys, r.graph, whole_index);
   if (certify_above_gf) {
-    const std::vector<uint64_t> keys = column_keys(sys, r.graph, whole_index);
     const auto begin = std::chrono::steady_clock::now();
     std::vector<double> from(keys.size(), 0.0);
     for (size_t j = 0; j < keys.size(); ++j)
@@ -59,7 +59,12 @@ StepStability analyze_step(const Assembly& partial, const std::vector<int>& whol
       return out;
     }
   }
+  if (!solve) {
+    out.decided = false;
+    return out;
+  }
   solve_equilibrium(partial, sys, options, r);
+  if (r.status == StabilityStatus::Solved) out.forces = keyed(keys, r.forces);
   return out;
 }
 

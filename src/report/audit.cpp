@@ -517,7 +517,7 @@ StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options,
   s.floating = int(r.connectivity.floating.size() + r.connectivity.floating_carried.size());
   const Verdict v = verdict_of(r, options.min_cm_gf);
   s.stable = v == Verdict::Stable || v == Verdict::NothingToAnalyse;
-  if (forces && r.certified) *forces = std::move(analysed.forces);
+  if (forces) *forces = std::move(analysed.forces);
   if (!s.stable)
     explain_falling_step(audit, r, whole_index, whole_carried_index, options.min_cm_gf, s);
   return s;
