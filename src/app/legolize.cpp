@@ -247,7 +247,8 @@ int main(int argc, char** argv) {
   std::string input, output, up = "auto", palette_spec = "current", size, colors = "hard",
                              ground = "baseplate", inventory, parts_list, bricklink, report_path,
                              heatmap, instructions;
-  int height = 20, shell = 3, fail_max = 100, default_color = kUncolouredColor;
+  int height = 20, shell = 3, fail_max = 100, default_color = kUncolouredColor,
+      max_step_parts = layout::BuildOrderOptions{}.max_new_bricks;
   size_t max_voxels = 8'000'000;
   double scale = 0, w_c = 1, min_cm = 0, load_top = 0, read_seconds = 120;
   uint64_t seed = 1;
@@ -342,6 +343,12 @@ int main(int argc, char** argv) {
                "order the build steps by studs alone, without analysing each step (each analysis "
                "costs about half the final one; the report then says so)")
       ->group(g_physics);
+  app.add_option("--max-step-parts", max_step_parts,
+                 fmt::format("new parts in one build step at most: a layer with more is built in "
+                             "groups of nearby parts (default {}; 0: a layer per step)",
+                             max_step_parts))
+      ->check(CLI::NonNegativeNumber)
+      ->group(g_physics);
   bool no_local_bounds = false;
   app.add_flag("--no-local-bounds", no_local_bounds,
                "analyse every refinement candidate on the whole model instead of rejecting "
@@ -350,7 +357,7 @@ int main(int argc, char** argv) {
   int jobs = 2;
   app.add_option("--jobs", jobs,
                  "analyses run at once, one thread each (default 2): the refinement's two "
-                 "candidates per round and two build steps; the output does not depend on it")
+                 "candidates per round; the output does not depend on it")
       ->check(CLI::Range(1, 64))
       ->group(g_physics);
 
@@ -583,6 +590,7 @@ int main(int argc, char** argv) {
     settings.order.stability = refine.stability;
     settings.order.min_cm_gf = min_cm;
     settings.order.analyse = !no_step_analysis;
+    settings.order.max_new_bricks = max_step_parts;
     settings.order.side_by_side = jobs > 1;
     std::vector<PieceResult> results;
     for (size_t k = 0; k < pieces.size(); ++k) {

@@ -12,6 +12,7 @@
 
 #include "core/stopwatch.h"
 #include "core/text.h"
+#include "layout/nearby_groups.h"
 #include "physics/contact_graph.h"
 #include "physics/interior_point.h"
 #include "physics/step_stability.h"
@@ -24,11 +25,10 @@ namespace {
 // until the body ties them): past this many, the rest are analysed but not repaired.
 constexpr int kStopRepairingAfter = 3;
 
-// A certificate begins from the forces of the last step certified. Once this many steps in a row
-// were not, the later ones seldom are (the bunny at height 40: the first steps certified, then
-// its overhangs none, as a cantilever held by a brick above is beyond certificate.h), and each
-// try costs a tenth of the LP: the LP alone decides the rest.
-constexpr int kStopCertifyingAfter = 3;
+// A certificate begins from the forces of the step before (the certificate's or the LP's). Once
+// this many tries in a row found none, the step's layer is left to the LP: the groups of the
+// layer not yet placed come in one step.
+constexpr int kCertificateTries = 1;
 
 // The model as it stands after a step: the bricks placed so far, in the assembly's order.
 Assembly partial_assembly(const Assembly& whole, const std::vector<char>& in,
@@ -108,13 +108,23 @@ struct Planner {
   std::vector<int> wait_for_step;         // and for this step (above the top layer)
   int steps = 0;                          // committed so far
   std::vector<char> placed, reachable;    // reachable: the ground or a placed brick holds it
-  // Forces that balance the last step a certificate showed standing: the next begins from them.
+  // Forces that balance the last step: the next one's certificate begins from them.
   physics::StepForces built;
-  int uncertified_in_a_row = 0;  // steps committed without a certificate since the last one
+  int failed_tries = 0;  // certificates not found since the last step decided
+  // Bricks of the cursor's layer taken in a step that no certificate showed standing: they come
+  // with the next group, and the LP decides the layer's last step.
+  std::vector<int> pending;
+  // Per brick: its group of nearby bricks of its layer (nearby_groups.h), numbered layer by
+  // layer from the ground up. Planned once for the whole layer, so that each group stays
+  // compact whatever is placed before it.
+  std::vector<int> group_of;
   int placed_count = 0;
-  size_t cursor = 0;  // into layers
+  size_t cursor = 0;        // into layers
+  int max_new = 0;          // bricks in one step at most (0: no limit)
+  bool layer_left = false;  // the step next() planned leaves some of the cursor's layer
 
-  Planner(const Assembly& assembly, physics::GroundMode ground) : a(assembly) {
+  Planner(const Assembly& assembly, physics::GroundMode ground, int max_new_bricks)
+      : a(assembly), max_new(max_new_bricks) {
     const int n = int(a.bricks.size());
     snapped.resize(size_t(n));
     placed.assign(size_t(n), 0);
@@ -138,6 +148,17 @@ struct Planner {
     layers.erase(std::unique(layers.begin(), layers.end()), layers.end());
     not_before = layer;
     wait_for_step.assign(size_t(n), 0);
+    group_of.assign(size_t(n), -1);
+    int groups = 0;
+    for (int y : layers) {
+      std::vector<int> of_layer;
+      for (int i = 0; i < n; ++i)
+        if (layer[size_t(i)] == y) of_layer.push_back(i);
+      for (const auto& g : nearby_groups(a, of_layer, max_new)) {
+        for (int b : g) group_of[size_t(b)] = groups;
+        ++groups;
+      }
+    }
   }
 
   int size() const { return int(a.bricks.size()); }
@@ -154,26 +175,48 @@ struct Planner {
   }
 
   // The next step's bricks: everything held so far up to the cursor's layer (moving the cursor
-  // up past layers with nothing to take).
+  // up past layers with nothing to take), or a group of nearby ones of them.
   std::vector<int> next() {
+    layer_left = false;
     std::vector<int> fresh = take(layers[cursor]);
     while (fresh.empty() && cursor + 1 < layers.size()) fresh = take(layers[++cursor]);
     if (fresh.empty())  // above the top layer: what hangs there
       fresh = take(std::numeric_limits<int>::max());
-    if (fresh.empty())  // what nothing placed holds: one last step, reported floating
+    if (fresh.empty()) {  // what nothing placed holds: one last step, reported floating
       for (int i = 0; i < size(); ++i)
         if (!placed[size_t(i)]) fresh.push_back(i);
+      return fresh;
+    }
+    std::vector<int> rest;
+    std::set_difference(fresh.begin(), fresh.end(), pending.begin(), pending.end(),
+                        std::back_inserter(rest));
+    // Of the cursor's layer, one group of nearby bricks at a time; the bricks of other layers
+    // (held back, or hanging from a brick placed last) come along, as with whole layers.
+    const int at = layers[cursor];
+    int first = std::numeric_limits<int>::max();
+    for (int b : rest)
+      if (layer[size_t(b)] == at) first = std::min(first, group_of[size_t(b)]);
+    fresh = pending;
+    const bool whole_layer = failed_tries >= kCertificateTries;
+    for (int b : rest)
+      if (whole_layer || layer[size_t(b)] != at || group_of[size_t(b)] == first) fresh.push_back(b);
+    layer_left = fresh.size() < pending.size() + rest.size();
+    std::sort(fresh.begin(), fresh.end());
     return fresh;
   }
 
-  void commit(const std::vector<int>& fresh) {
+  // `leaves_layer`: the step leaves some of the cursor's layer for the next (as next() said when
+  // it planned the step).
+  void commit(const std::vector<int>& fresh, bool leaves_layer) {
+    pending.clear();
+    failed_tries = 0;
     for (int i : fresh) {
       placed[size_t(i)] = 1;
       for (int m : snapped[size_t(i)]) reachable[size_t(m)] = 1;
     }
     placed_count += int(fresh.size());
     ++steps;
-    if (cursor + 1 < layers.size()) ++cursor;
+    if (!leaves_layer && cursor + 1 < layers.size()) ++cursor;
   }
 
   std::optional<int> layer_above_cursor() const {
@@ -186,13 +229,16 @@ struct Planner {
 struct StepAnalysis {
   std::vector<int> fresh, whole_index;
   physics::StabilityResult result;
-  physics::StepForces forces;  // a certificate's, for the next step to begin from
+  physics::StepForces forces;  // for the next step to begin from
   BuildStep step;
+  bool layer_left = false;  // as Planner::layer_left when the step was planned
+  bool undecided = false;   // no certificate, and the LP left for a step with more of the layer
 };
 
-StepAnalysis analyse_step(const Planner& p, std::vector<int> fresh,
+StepAnalysis analyse_step(const Planner& p, std::vector<int> fresh, bool layer_left,
                           const BuildOrderOptions& options) {
   StepAnalysis out;
+  out.layer_left = layer_left;
   std::vector<char> in = p.placed;
   for (int i : fresh) in[size_t(i)] = 1;
   const Assembly partial = partial_assembly(p.a, in, out.whole_index);
@@ -204,12 +250,19 @@ StepAnalysis analyse_step(const Planner& p, std::vector<int> fresh,
     out.fresh = std::move(fresh);
     return out;
   }
-  const bool certify = options.certify && p.uncertified_in_a_row < kStopCertifyingAfter;
-  physics::StepStability analysed =
-      physics::analyze_step(partial, out.whole_index, p.built, options.stability,
-                            certify ? std::optional<double>(options.min_cm_gf) : std::nullopt);
+  // A step that leaves some of its layer for the next is not worth an LP of its own: without a
+  // certificate, its bricks come with the next group.
+  physics::StepStability analysed = physics::analyze_step(
+      partial, out.whole_index, p.built, options.stability,
+      options.certify ? std::optional<double>(options.min_cm_gf) : std::nullopt,
+      !(options.certify && layer_left));
   out.result = std::move(analysed.result);
-  if (out.result.certified) out.forces = std::move(analysed.forces);
+  out.forces = std::move(analysed.forces);
+  if (!analysed.decided) {
+    out.undecided = true;
+    out.fresh = std::move(fresh);
+    return out;
+  }
   out.step.analysed = true;
   const auto& r = out.result;
   BuildStep& s = out.step;
@@ -326,11 +379,17 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
   BuildOrder out;
   out.step_of.assign(a.bricks.size(), 0);
   if (a.bricks.empty()) return out;
-  Planner p(a, options.stability.ground);
+  Planner p(a, options.stability.ground, options.max_new_bricks);
 
-  // Each step is analysed while the next one is, planned as if the first stands (as it nearly
-  // always does): two analyses at a time, and the second thrown away when the first needs repair.
-  const physics::OneBlasThreadEach blas_threads(options.side_by_side);
+  // With the LP for every step, each step is analysed while the next one is, planned as if the
+  // first stands (as it nearly always does): two analyses at a time, and the second thrown away
+  // when the first needs repair. With certificates, one step at a time: a step's certificate
+  // begins from the forces of the step before, and whether one is found decides the steps (a
+  // group without one comes with the next), which must not depend on --jobs. On the duck at
+  // height 40, steps one at a time, the LP with two BLAS threads, took 106 s; two at a time,
+  // the second's certificate sought again from the first's forces, 127 s.
+  const bool side_by_side = options.side_by_side && !options.certify;
+  const physics::OneBlasThreadEach blas_threads(side_by_side);
   std::optional<StepAnalysis> ahead;
   struct Attempt {
     StepAnalysis analysis;
@@ -346,17 +405,25 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
     } else {
       std::vector<int> fresh = p.next();
       Planner after = p;
-      after.commit(fresh);
-      if (after.done() || !options.analyse || !options.side_by_side) {
-        now = analyse_step(p, std::move(fresh), options);
+      after.commit(fresh, p.layer_left);
+      if (after.done() || !options.analyse || !side_by_side) {
+        now = analyse_step(p, std::move(fresh), p.layer_left, options);
         ++out.analyses;
       } else {
         std::vector<int> fresh_after = after.next();
-        std::thread second([&] { ahead = analyse_step(after, std::move(fresh_after), options); });
-        now = analyse_step(p, std::move(fresh), options);
+        std::thread second([&] {
+          ahead = analyse_step(after, std::move(fresh_after), after.layer_left, options);
+        });
+        now = analyse_step(p, std::move(fresh), p.layer_left, options);
         second.join();
         out.analyses += 2;
       }
+    }
+    if (now.undecided) {
+      p.pending = std::move(now.fresh);
+      ++p.failed_tries;
+      ahead.reset();  // planned as if this step stood
+      continue;
     }
     if (now.step.analysed && !now.step.stands && now.step.floating == 0) {
       // The attempt with the largest C_M is kept, with the holding back that led to it.
@@ -396,8 +463,7 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
     falling_in_a_row = now.step.stands ? 0 : falling_in_a_row + 1;
     best.reset();
     repairs = 0;
-    p.commit(now.fresh);
-    p.uncertified_in_a_row = now.step.certified ? 0 : p.uncertified_in_a_row + 1;
+    p.commit(now.fresh, now.layer_left);
     if (!now.forces.empty()) p.built = std::move(now.forces);
     for (int i : now.fresh) out.step_of[size_t(i)] = int(out.steps.size()) + 1;
     out.steps.push_back(now.step);

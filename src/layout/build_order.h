@@ -15,13 +15,17 @@ struct BuildOrderOptions {
   double min_cm_gf = 0;  // a step stands when its C_M / g is above this
   // Tries per step to make a failing step stand by holding its weakest new bricks back.
   int repairs_per_step = 4;
+  // New bricks in one step at most (nearby_groups.h): a layer with more is built in groups of
+  // nearby bricks, a step each. 0: a layer per step.
+  int max_new_bricks = 30;
   // False: the order by studs alone, no step analysed (one analysis per step costs about half
   // the final model's each; the report then says the steps were not analysed).
   bool analyse = true;
   // A step stands when a certificate shows it (physics/step_stability.h); the LP only where no
   // certificate is found, and for the weakest step's exact C_M. False: the LP for every step.
   bool certify = true;
-  // Two steps analysed at a time (the next planned as if this one stands); false: one by one.
+  // Without certificates, two steps analysed at a time (the next planned as if this one
+  // stands); false: one by one. With them, always one by one (plan_build_order says why).
   bool side_by_side = true;
   std::function<void(int step, int steps_so_far, double seconds)> progress;  // may be empty
   // How a step that falls names a brick of the assembly (legolize: its part and voxel, as
@@ -61,9 +65,11 @@ struct BuildOrder {
 
 // Orders the bricks layer by layer from the ground up. Step k takes every brick of layers up to
 // the k-th that a brick already placed (or the ground) holds by its studs: a brick hanging from
-// the layer above comes with the next layer, in the step after the brick that holds it. Each step
-// is analysed; when one does not stand, its new bricks that make it fall (those no forces balance,
-// else the ends of its weakest contacts) wait for the next layer, and the step is tried again.
+// the layer above comes with the next layer, in the step after the brick that holds it. Of more
+// than max_new_bricks, a group of nearby ones; the layer's others follow in the next steps. Each
+// step is analysed; when one does not stand, its new bricks that make it fall (those no forces
+// balance, else the ends of its weakest contacts) wait for the next layer, and the step is tried
+// again.
 BuildOrder plan_build_order(const Assembly& assembly, const BuildOrderOptions& options);
 
 // The assembly's bricks with Brick::source.step from the order, sorted by step (stably); the

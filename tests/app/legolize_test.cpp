@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -307,28 +308,72 @@ TEST(Legolize, LayersAreBuildStepsAndTheSameSeedGivesTheSameFile) {
   EXPECT_EQ(run_tool("brickcheck", {"--steps", "--quiet", a.string()}).exit_code, 0);
 }
 
-// A mushroom: a 4 x 4 stud stem under a 12 x 12 cap three bricks thick, in millimetres.
-fs::path mushroom() {
-  auto obj = scratch("mushroom.obj");
-  {
-    std::ofstream out(obj);
-    int base = 0;
-    auto box = [&](double x0, double y0, double z0, double x1, double y1, double z1) {
-      for (int i = 0; i < 8; ++i)
-        out << "v " << (i & 1 ? x1 : x0) << " " << (i & 2 ? y1 : y0) << " " << (i & 4 ? z1 : z0)
-            << "\n";
-      const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                               {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-      for (const auto& f : faces)
-        out << "f " << base + f[0] + 1 << " " << base + f[1] + 1 << " " << base + f[2] + 1 << " "
-            << base + f[3] + 1 << "\n";
-      base += 8;
-    };
-    // In millimetres (--scale 1): a stud is 8 mm, a brick 9.6 mm.
-    box(32, 0, 32, 64, 4 * 9.6, 64);      // the stem, 4 bricks high
-    box(0, 4 * 9.6, 0, 96, 7 * 9.6, 96);  // the cap, 3 bricks thick
+// An OBJ of boxes, each given by its corners (x0, y0, z0, x1, y1, z1).
+fs::path boxes_obj(const std::string& name, const std::vector<std::array<double, 6>>& boxes) {
+  auto obj = scratch(name);
+  std::ofstream out(obj);
+  int base = 0;
+  for (const auto& b : boxes) {
+    for (int i = 0; i < 8; ++i)
+      out << "v " << b[i & 1 ? 3 : 0] << " " << b[i & 2 ? 4 : 1] << " " << b[i & 4 ? 5 : 2] << "\n";
+    const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                             {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    for (const auto& f : faces)
+      out << "f " << base + f[0] + 1 << " " << base + f[1] + 1 << " " << base + f[2] + 1 << " "
+          << base + f[3] + 1 << "\n";
+    base += 8;
   }
   return obj;
+}
+
+// A mushroom: a 4 x 4 stud stem under a 12 x 12 cap three bricks thick, in millimetres (--scale
+// 1: a stud is 8 mm, a brick 9.6 mm).
+fs::path mushroom() {
+  return boxes_obj("mushroom.obj", {{32, 0, 32, 64, 4 * 9.6, 64},        // the stem, 4 bricks high
+                                    {0, 4 * 9.6, 0, 96, 7 * 9.6, 96}});  // the cap, 3 bricks thick
+}
+
+// A slab 24 studs square and 4 bricks high has layers of over 100 bricks: each is built in
+// steps of at most 30 nearby bricks, every one standing, most shown by a certificate.
+TEST(Legolize, WideLayersAreBuiltInSmallStepsOfNearbyBricks) {
+  const auto slab = boxes_obj("slab.obj", {{0, 0, 0, 24 * 8, 4 * 9.6, 24 * 8}});
+  auto out = scratch("slab.ldr"), report = scratch("slab.json");
+  auto run = run_tool(
+      "legolize", {slab.string(), "--scale", "1", "-o", out.string(), "--report", report.string()});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto r = read_json(report);
+  EXPECT_TRUE(r["steps_stand"].get<bool>());
+  ASSERT_GE(r["steps"].size(), 16u);  // over 400 bricks
+  int certified = 0;
+  for (const auto& step : r["steps"]) {
+    EXPECT_LE(step["new_bricks"].get<int>(), 30) << step;
+    certified += step["certified"].get<bool>();
+  }
+  EXPECT_GT(certified, int(r["steps"].size()) / 2);
+  expect_brickcheck_steps_agree(out, r);
+  // Nearby: the groups of a layer cover it about once, where groups drawn at random would each
+  // spread over the whole layer.
+  ldraw::Model m = ldraw::read_file(out);
+  std::map<int, std::array<double, 4>> extent;  // per step: x and z, least and most
+  std::map<double, std::set<int>> steps_of_layer;
+  for (const auto& p : m.parts) {
+    auto [it, fresh] = extent.try_emplace(p.step, std::array<double, 4>{1e9, -1e9, 1e9, -1e9});
+    auto& e = it->second;
+    e = {std::min(e[0], p.transform.pos[0]), std::max(e[1], p.transform.pos[0]),
+         std::min(e[2], p.transform.pos[2]), std::max(e[3], p.transform.pos[2])};
+    steps_of_layer[p.transform.pos[1]].insert(p.step);
+  }
+  for (const auto& [y, steps] : steps_of_layer) {
+    double covered = 0;
+    for (int k : steps) covered += (extent[k][1] - extent[k][0]) * (extent[k][3] - extent[k][2]);
+    EXPECT_GT(steps.size(), 3u);
+    EXPECT_LT(covered, 1.5 * (24 * 20) * (24 * 20)) << "layer at y " << y;
+  }
+  // And a layer a step when asked.
+  run = run_tool("legolize", {slab.string(), "--scale", "1", "--max-step-parts", "0", "-o",
+                              out.string(), "--report", report.string()});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(read_json(report)["steps"].size(), steps_of_layer.size());
 }
 
 // Built layer by layer,
@@ -585,7 +630,8 @@ TEST(Legolize, TheBunnyConvertsAndBrickcheckAgrees) {
   ldraw::Model m = ldraw::read_file(out);
   EXPECT_FALSE(m.has_errors());
   EXPECT_EQ(m.parts.size(), r["bricks"].get<size_t>());
-  // A submodel per step: a layer each, and more where bricks hang from the layer above.
+  // A submodel per step: up to 30 nearby bricks of a layer each, and more where bricks hang from
+  // the layer above.
   EXPECT_EQ(m.submodels.size(), r["steps"].size());
   EXPECT_GE(m.submodels.size(), 40u);
   EXPECT_TRUE(r["steps_stand"].is_null());  // --no-step-analysis
