@@ -32,15 +32,7 @@ std::string color_field(int code) {
 }
 
 std::string brick_line(const Brick& b, const std::array<int, 3>& origin) {
-  Transform t = brick_transform(b, origin);
-  std::string line = fmt::format("1 {} {} {} {}", color_field(b.color), number(t.pos[0]),
-                                 number(t.pos[1]), number(t.pos[2]));
-  for (double m : t.rot) {
-    line += ' ';
-    line += number(m);
-  }
-  line += fmt::format(" {}.dat\n", b.type->part);
-  return line;
+  return part_line(b.color, brick_transform(b, origin), b.type->part + ".dat");
 }
 
 // A header field is one line: control characters (a newline in a mesh's file name) would start
@@ -67,6 +59,17 @@ std::vector<size_t> by_step(const Assembly& a) {
 }
 
 }  // namespace
+
+std::string part_line(int color, const Transform& t, const std::string& reference) {
+  std::string line = fmt::format("1 {} {} {} {}", color_field(color), number(t.pos[0]),
+                                 number(t.pos[1]), number(t.pos[2]));
+  for (double m : t.rot) {
+    line += ' ';
+    line += number(m);
+  }
+  line += fmt::format(" {}\n", reference);
+  return line;
+}
 
 Transform brick_transform(const Brick& brick, const std::array<int, 3>& origin_ldu) {
   const Pose pose = model_pose(brick);

@@ -17,6 +17,10 @@ struct WriteOptions {
   bool steps = true;  // `0 STEP` between bricks of different Brick::source.step
 };
 
+// A type-1 line (ending in a newline): the part `reference` in `color` (a code, or a direct
+// colour as 0x2RRGGBB) where `t` puts it.
+std::string part_line(int color, const Transform& t, const std::string& reference);
+
 // The LDraw transform of a brick of an assembly (origin at the top centre of its body).
 Transform brick_transform(const Brick& brick, const std::array<int, 3>& origin_ldu);
 

@@ -101,6 +101,10 @@ void prepare_folder(const fs::path& dir) {
       fs::remove(e.path(), ec);
 }
 
+// New parts' highlight: magenta, which few parts are (LeoCAD's yellow hid yellow parts' edges and
+// tinted white and nougat parts yellow).
+constexpr const char* kHighlight = "#FFFF00FF";
+
 // LeoCAD renders the steps (new parts highlighted, earlier ones faded) and the finished model;
 // returns which pictures exist, and a note when some do not.
 struct Pictures {
@@ -124,21 +128,40 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
         "booklet has no pictures.";
     return out;
   }
-  const int last = booklet.steps.empty() ? 1 : booklet.steps.back().number;
   const fs::path scratch = dir / ".render";
   std::error_code ec;
   fs::remove_all(scratch, ec);
   fs::create_directories(scratch);
+  // The booklet's own steps when it has them drawn; else the model's file, whose steps LeoCAD
+  // numbers as the file does.
+  std::string shown_submodel = submodel;
+  fs::path shown = model;
+  if (!booklet.drawn.empty()) {
+    shown = scratch / "steps.ldr";
+    ldraw::write_file_atomically(shown, booklet.drawn);
+    shown_submodel.clear();
+  }
+  auto number_of = [&](int leocad_step) {
+    if (booklet.drawn.empty()) return leocad_step;
+    return leocad_step >= 1 && leocad_step <= int(booklet.steps.size())
+               ? booklet.steps[size_t(leocad_step - 1)].number
+               : 0;
+  };
+  const int last = booklet.steps.empty()   ? 1
+                   : booklet.drawn.empty() ? booklet.steps.back().number
+                                           : int(booklet.steps.size());
   auto leocad = [&](const std::string& image, int from, int to, bool highlight) {
     const std::string command = fmt::format(
         "{}{}leocad -l {} {}-i {} -w {} -h {} -f {} -t {} --camera-angles 30 45 {} {} >{} 2>&1",
         // A renderer that hangs (no X server after all) must not hang the tool.
         have("timeout") ? fmt::format("timeout {} ", kRenderSeconds) : "",
         display ? "" : "xvfb-run -a ", shell_quote(library.string()),
-        submodel.empty() ? std::string() : "-s " + shell_quote(submodel) + " ",
+        shown_submodel.empty() ? std::string() : "-s " + shell_quote(shown_submodel) + " ",
         shell_quote((scratch / image).string()), kWidth, kHeight, from, to,
-        highlight ? "--highlight --fade-steps" : "--no-highlight --no-fade-steps",
-        shell_quote(fs::absolute(model).string()), shell_quote((scratch / "leocad.log").string()));
+        highlight
+            ? fmt::format("--highlight --highlight-color {} --fade-steps", shell_quote(kHighlight))
+            : "--no-highlight --no-fade-steps",
+        shell_quote(fs::absolute(shown).string()), shell_quote((scratch / "leocad.log").string()));
     return std::system(command.c_str()) == 0;
   };
   if (progress) progress(fmt::format("rendering {} steps with LeoCAD", booklet.steps.size()));
@@ -152,11 +175,12 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
     std::smatch m;
     int step = 0;
     if (std::regex_match(name, m, numbered))
-      step = std::stoi(m[1]);
+      step = number_of(std::stoi(m[1]));
     else if (name == "step.png")
-      step = last;
+      step = number_of(last);
     else
       continue;
+    if (step <= 0) continue;
     const std::string target = fmt::format("step-{:03}.png", step);
     fs::rename(e.path(), dir / target, ec);
     if (!ec) out.step[step] = target;
@@ -285,6 +309,23 @@ void check_booklet_folder(const fs::path& dir) {
                    "(a booklet written there before is replaced)");
 }
 
+namespace {
+
+// The parts flattened, a step of the file per step of the model that places parts (submodels'
+// own steps, a leading empty step: LeoCAD would number the steps otherwise than the booklet).
+std::string drawn_by_step(const ldraw::Model& model) {
+  std::map<int, std::string> steps;
+  for (const ldraw::PlacedPart& p : model.parts) {
+    if (!p.embedded_definition.empty()) return {};
+    steps[p.step] += ldraw::part_line(p.color, p.transform, p.reference);
+  }
+  std::string out = "0 The booklet's steps\n0 Name: steps.ldr\n0 Author: legolization\n\n";
+  for (auto& [step, lines] : steps) out += lines + "0 STEP\n";
+  return out;
+}
+
+}  // namespace
+
 Booklet booklet_of(const ldraw::Model& model) {
   Booklet b;
   b.title = model.title.empty() ? model.source : model.title;
@@ -311,6 +352,7 @@ Booklet booklet_of(const ldraw::Model& model) {
     b.steps.push_back(std::move(s));
   }
   b.parts = sorted(std::move(all));
+  b.drawn = drawn_by_step(model);
   return b;
 }
 

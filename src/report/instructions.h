@@ -33,6 +33,10 @@ struct Booklet {
   std::optional<double> cm_gf;   // of the finished model
   std::string verdict;           // one line on the finished model
   ldraw::ColorTable colors;      // names and looks of the colours (the model's table)
+  // What the pictures show: every part where the model puts it, as one LDraw file with a STEP
+  // after each of `steps`, so that a renderer's step k is steps[k - 1]. Empty when the model
+  // defines parts of its own (a renderer finds those only in the model's file).
+  std::string drawn;
 };
 
 // The parts of a model read from LDraw, step by step (submodels flattened, a submodel's parts in

@@ -2,6 +2,7 @@
 // headless Chromium. Tests that need them skip when leocad, xvfb-run or chromium is missing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -151,6 +152,40 @@ TEST_F(Booklet, PartNamesWithoutTheLibrarysMarks) {
   EXPECT_EQ(html.find("=Plate"), std::string::npos);
   EXPECT_EQ(html.find("~Brick"), std::string::npos);
   EXPECT_EQ(html.find("(Obsolete)"), std::string::npos);
+}
+
+// An MPD whose submodel has steps of its own, placed after a leading empty step: the pictures
+// follow the booklet's steps (LeoCAD, given the file, drew one picture for the submodel's three
+// steps): each differs from the one before.
+TEST_F(Booklet, PicturesFollowTheBookletsStepsThroughSubmodels) {
+  SKIP_WITHOUT_SHARED();
+  if (!test::have("leocad") || !test::have("xvfb-run"))
+    GTEST_SKIP() << "leocad or xvfb-run is not installed";
+  const fs::path model = dir_ / "tower.mpd", book = dir_ / "tower-book";
+  std::ofstream(model) << "0 FILE tower.mpd\n0 tower\n0 STEP\n"
+                          "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                          "1 16 0 -24 0 1 0 0 0 1 0 0 0 1 wall.ldr\n0 STEP\n"
+                          "1 1 0 -96 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                          "0 FILE wall.ldr\n0 wall\n"
+                          "1 14 0 -24 0 1 0 0 0 1 0 0 0 1 3003.dat\n0 STEP\n"
+                          "1 2 0 -48 0 1 0 0 0 1 0 0 0 1 3003.dat\n0 STEP\n"
+                          "1 15 0 -72 0 1 0 0 0 1 0 0 0 1 3003.dat\n0 STEP\n";
+  const auto run =
+      run_tool("brickcheck", {"--ldraw-dir", (test::shared_dir() / "ldraw-library").string(),
+                              "--instructions", book.string(), model.string()});
+  ASSERT_TRUE(fs::exists(book / "index.html")) << run.out << run.err;
+  std::vector<fs::path> pictures;  // step-NNN.png, by the booklet's step numbers
+  for (const auto& e : fs::directory_iterator(book))
+    if (e.path().filename().string().rfind("step-", 0) == 0) pictures.push_back(e.path());
+  std::sort(pictures.begin(), pictures.end());
+  ASSERT_EQ(pictures.size(), 5u) << run.err;  // the red brick, the wall's three, the blue brick
+  std::string before;
+  for (const fs::path& p : pictures) {
+    const std::string picture = text_of(p);
+    ASSERT_FALSE(picture.empty()) << p;
+    EXPECT_NE(picture, before) << p << " is the picture before it";
+    before = picture;
+  }
 }
 
 // A folder with the user's own files is refused and left as it was; a booklet written before is
