@@ -327,13 +327,14 @@ void corpus_heat_section(const fs::path& shared, double max_seconds) {
 // Build steps (issue 16): legolize's layout of each mesh (initialized and refined, as legolize
 // does), its layers taken as steps the way legolize wrote them before the building order, and
 // the building order (layout/build_order.h): the steps that stand in each, the smallest step C_M,
-// and the time the order takes against one analysis of the finished model.
+// the time the order takes against one analysis of the finished model, the most new bricks in
+// one step (target 30) and the steps a certificate showed standing.
 void steps_section(const std::vector<std::pair<std::string, layout::Target>>& targets,
                    const std::vector<double>& loads) {
   fmt::print("\nbuild steps: layer steps as written before, then the building order\n");
-  fmt::print("{:<26} {:>6} {:>6} {:>11} {:>6} {:>11} {:>6} {:>9} {:>9} {:>9} {:>7}\n", "input",
-             "bricks", "layers", "layer_stand", "steps", "steps_stand", "held", "min_cm", "order_s",
-             "final_s", "ratio");
+  fmt::print("{:<26} {:>6} {:>6} {:>11} {:>6} {:>11} {:>6} {:>9} {:>9} {:>9} {:>7} {:>7} {:>9}\n",
+             "input", "bricks", "layers", "layer_stand", "steps", "steps_stand", "held", "min_cm",
+             "order_s", "final_s", "ratio", "max_new", "certified");
   for (size_t k = 0; k < targets.size(); ++k) {
     const auto& [name, target] = targets[k];
     layout::Layout lay(target);
@@ -369,13 +370,17 @@ void steps_section(const std::vector<std::pair<std::string, layout::Target>>& ta
     t = Clock::now();
     const layout::BuildOrder order = layout::plan_build_order(unloaded, order_options);
     const double order_s = seconds_since(t);
-    int stand = 0;
-    for (const auto& st : order.steps) stand += st.stands;
-    fmt::print("{:<26} {:>6} {:>6} {:>11} {:>6} {:>11} {:>6} {:>9} {:>9} {:>9} {:>7}\n", name,
-               a.bricks.size(), layers, fmt::format("{}/{}", layers_stand, layers),
+    int stand = 0, max_new = 0;
+    for (const auto& st : order.steps) {
+      stand += st.stands;
+      max_new = std::max(max_new, st.new_bricks);
+    }
+    fmt::print("{:<26} {:>6} {:>6} {:>11} {:>6} {:>11} {:>6} {:>9} {:>9} {:>9} {:>7} {:>7} {:>9}\n",
+               name, a.bricks.size(), layers, fmt::format("{}/{}", layers_stand, layers),
                order.steps.size(), fmt::format("{}/{}", stand, order.steps.size()), order.held_back,
                number(order.min_cm_gf()), number(order_s), number(final_s),
-               fmt::format("{:.1f}", order_s / final_s));
+               fmt::format("{:.1f}", order_s / final_s), max_new,
+               fmt::format("{}/{}", order.certified_steps(), order.steps.size()));
     std::fflush(stdout);
   }
 }
