@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -105,7 +104,7 @@ constexpr int kPasses = 8;
 constexpr double kBalanced = 1e-9;
 
 // How far (in contacts) the bodies that share a load a body cannot pass on alone reach.
-constexpr int kWindowHops[] = {2};
+constexpr int kWindowHops = 2;
 // Shared loads cost a larger LP each (tens of bodies): a certificate that needs more is left
 // to the whole model's LP.
 constexpr int kMaxWindows = 32;
@@ -157,18 +156,18 @@ bool pass_on_least_friction(const EquilibriumSystem& s, const std::vector<int>& 
   // support forces at any value its vertex happens to have, and their twists pile up below.
   constexpr double kPassing = 1e-3;
   constexpr int kRows = EquilibriumSystem::kEquations;
-  std::unordered_map<int, int> slot;  // body -> its first row in the LP
-  for (int b : window) slot.emplace(b, int(slot.size()) * kRows);
   LpData lp;
   lp.rows = int(window.size()) * kRows;
   std::vector<std::pair<int, double>> entries;
   auto entries_of = [&](int j, double sign) {
     entries.clear();
     for (int e = s.column_start[size_t(j)]; e < s.column_start[size_t(j) + 1]; ++e) {
+      // The window is one body or a few tens: its place in it is found by looking.
       const int row = s.row_index[size_t(e)];
-      const auto it = slot.find(EquilibriumSystem::body_of_row(row));
-      if (it != slot.end() && s.value[size_t(e)] != 0)
-        entries.emplace_back(it->second + row % kRows, sign * s.value[size_t(e)]);
+      const auto at = std::find(window.begin(), window.end(), EquilibriumSystem::body_of_row(row));
+      if (at != window.end() && s.value[size_t(e)] != 0)
+        entries.emplace_back(int(at - window.begin()) * kRows + row % kRows,
+                             sign * s.value[size_t(e)]);
     }
   };
   std::vector<double> friction_upper;
@@ -271,35 +270,32 @@ Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
   std::vector<int> window, hops(static_cast<size_t>(bodies), -1);
   int windows = 0;
   auto pass_on_around = [&](int b) {
-    for (int radius : kWindowHops) {
-      if (++windows > kMaxWindows) return false;
-      window.assign(1, b);
-      hops[size_t(b)] = 0;
-      for (size_t q = 0; q < window.size(); ++q) {
-        const int w = window[q];
-        if (hops[size_t(w)] == radius) continue;
-        for (int j : body_columns[size_t(w)]) {
-          const int other = columns[size_t(j)].other_than(w);
-          if (other != kNone && hops[size_t(other)] < 0 && rank[size_t(other)] < rank[size_t(b)]) {
-            hops[size_t(other)] = hops[size_t(w)] + 1;
-            window.push_back(other);
-          }
+    if (++windows > kMaxWindows) return false;
+    window.assign(1, b);
+    hops[size_t(b)] = 0;
+    for (size_t q = 0; q < window.size(); ++q) {
+      const int w = window[q];
+      if (hops[size_t(w)] == kWindowHops) continue;
+      for (int j : body_columns[size_t(w)]) {
+        const int other = columns[size_t(j)].other_than(w);
+        if (other != kNone && hops[size_t(other)] < 0 && rank[size_t(other)] < rank[size_t(b)]) {
+          hops[size_t(other)] = hops[size_t(w)] + 1;
+          window.push_back(other);
         }
       }
-      local.clear();
-      for (int w : window)
-        for (int j : body_columns[size_t(w)]) {
-          const int other = columns[size_t(j)].other_than(w);
-          const bool inside = other != kNone && hops[size_t(other)] >= 0;
-          if (inside && other < w) continue;  // listed from the other body
-          if (other == kNone || inside || rank[size_t(other)] > rank[size_t(b)]) local.push_back(j);
-        }
-      for (int w : window) hops[size_t(w)] = -1;
-      ++out.local_lps;
-      double t = 0;
-      if (pass_on_least_friction(s, window, local, x, unbalanced, local_x, t)) return true;
     }
-    return false;
+    local.clear();
+    for (int w : window)
+      for (int j : body_columns[size_t(w)]) {
+        const int other = columns[size_t(j)].other_than(w);
+        const bool inside = other != kNone && hops[size_t(other)] >= 0;
+        if (inside && other < w) continue;  // listed from the other body
+        if (other == kNone || inside || rank[size_t(other)] > rank[size_t(b)]) local.push_back(j);
+      }
+    for (int w : window) hops[size_t(w)] = -1;
+    ++out.local_lps;
+    double t = 0;
+    return pass_on_least_friction(s, window, local, x, unbalanced, local_x, t);
   };
 
   // One pass from the farthest body down; the body that cannot pass its load on, or -1.
