@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <optional>
 #include <thread>
@@ -99,6 +100,13 @@ double BuildOrder::min_cm_gf() const {
 
 namespace {
 
+// A step as the order plans it: its new bricks, and whether it leaves some of the cursor's layer
+// for the steps after it.
+struct PlannedStep {
+  std::vector<int> bricks;
+  bool leaves_layer = false;
+};
+
 // What the order knows between steps: who holds whom, what is placed, and where the cursor is.
 struct Planner {
   const Assembly& a;
@@ -119,9 +127,8 @@ struct Planner {
   // compact whatever is placed before it.
   std::vector<int> group_of;
   int placed_count = 0;
-  size_t cursor = 0;        // into layers
-  int max_new = 0;          // bricks in one step at most (0: no limit)
-  bool layer_left = false;  // the step next() planned leaves some of the cursor's layer
+  size_t cursor = 0;  // into layers
+  int max_new = 0;    // bricks in one step at most (0: no limit)
 
   Planner(const Assembly& assembly, physics::GroundMode ground, int max_new_bricks)
       : a(assembly), max_new(max_new_bricks) {
@@ -149,16 +156,14 @@ struct Planner {
     not_before = layer;
     wait_for_step.assign(size_t(n), 0);
     group_of.assign(size_t(n), -1);
+    std::map<int, std::vector<int>> of_layer;
+    for (int i = 0; i < n; ++i) of_layer[layer[size_t(i)]].push_back(i);
     int groups = 0;
-    for (int y : layers) {
-      std::vector<int> of_layer;
-      for (int i = 0; i < n; ++i)
-        if (layer[size_t(i)] == y) of_layer.push_back(i);
-      for (const auto& g : nearby_groups(a, of_layer, max_new)) {
+    for (const auto& [y, bricks] : of_layer)
+      for (const auto& g : nearby_groups(a, bricks, max_new)) {
         for (int b : g) group_of[size_t(b)] = groups;
         ++groups;
       }
-    }
   }
 
   int size() const { return int(a.bricks.size()); }
@@ -176,8 +181,7 @@ struct Planner {
 
   // The next step's bricks: everything held so far up to the cursor's layer (moving the cursor
   // up past layers with nothing to take), or a group of nearby ones of them.
-  std::vector<int> next() {
-    layer_left = false;
+  PlannedStep next() {
     std::vector<int> fresh = take(layers[cursor]);
     while (fresh.empty() && cursor + 1 < layers.size()) fresh = take(layers[++cursor]);
     if (fresh.empty())  // above the top layer: what hangs there
@@ -185,7 +189,7 @@ struct Planner {
     if (fresh.empty()) {  // what nothing placed holds: one last step, reported floating
       for (int i = 0; i < size(); ++i)
         if (!placed[size_t(i)]) fresh.push_back(i);
-      return fresh;
+      return {fresh, false};
     }
     std::vector<int> rest;
     std::set_difference(fresh.begin(), fresh.end(), pending.begin(), pending.end(),
@@ -200,13 +204,12 @@ struct Planner {
     const bool whole_layer = failed_tries >= kCertificateTries;
     for (int b : rest)
       if (whole_layer || layer[size_t(b)] != at || group_of[size_t(b)] == first) fresh.push_back(b);
-    layer_left = fresh.size() < pending.size() + rest.size();
+    const bool leaves_layer = fresh.size() < pending.size() + rest.size();
     std::sort(fresh.begin(), fresh.end());
-    return fresh;
+    return {fresh, leaves_layer};
   }
 
-  // `leaves_layer`: the step leaves some of the cursor's layer for the next (as next() said when
-  // it planned the step).
+  // `leaves_layer`: as next() planned the step.
   void commit(const std::vector<int>& fresh, bool leaves_layer) {
     pending.clear();
     failed_tries = 0;
@@ -231,14 +234,14 @@ struct StepAnalysis {
   physics::StabilityResult result;
   physics::StepForces forces;  // for the next step to begin from
   BuildStep step;
-  bool layer_left = false;  // as Planner::layer_left when the step was planned
-  bool undecided = false;   // no certificate, and the LP left for a step with more of the layer
+  bool leaves_layer = false;  // as PlannedStep's
+  bool undecided = false;     // no certificate, and the LP left for a step with more of the layer
 };
 
-StepAnalysis analyse_step(const Planner& p, std::vector<int> fresh, bool layer_left,
-                          const BuildOrderOptions& options) {
+StepAnalysis analyse_step(const Planner& p, PlannedStep planned, const BuildOrderOptions& options) {
   StepAnalysis out;
-  out.layer_left = layer_left;
+  out.leaves_layer = planned.leaves_layer;
+  std::vector<int> fresh = std::move(planned.bricks);
   std::vector<char> in = p.placed;
   for (int i : fresh) in[size_t(i)] = 1;
   const Assembly partial = partial_assembly(p.a, in, out.whole_index);
@@ -255,7 +258,7 @@ StepAnalysis analyse_step(const Planner& p, std::vector<int> fresh, bool layer_l
   physics::StepStability analysed = physics::analyze_step(
       partial, out.whole_index, p.built, options.stability,
       options.certify ? std::optional<double>(options.min_cm_gf) : std::nullopt,
-      !(options.certify && layer_left));
+      !(options.certify && out.leaves_layer));
   out.result = std::move(analysed.result);
   out.forces = std::move(analysed.forces);
   if (!analysed.decided) {
@@ -403,18 +406,16 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
       now = std::move(*ahead);
       ahead.reset();
     } else {
-      std::vector<int> fresh = p.next();
+      PlannedStep planned = p.next();
       Planner after = p;
-      after.commit(fresh, p.layer_left);
+      after.commit(planned.bricks, planned.leaves_layer);
       if (after.done() || !options.analyse || !side_by_side) {
-        now = analyse_step(p, std::move(fresh), p.layer_left, options);
+        now = analyse_step(p, std::move(planned), options);
         ++out.analyses;
       } else {
-        std::vector<int> fresh_after = after.next();
-        std::thread second([&] {
-          ahead = analyse_step(after, std::move(fresh_after), after.layer_left, options);
-        });
-        now = analyse_step(p, std::move(fresh), p.layer_left, options);
+        PlannedStep planned_after = after.next();
+        std::thread second([&] { ahead = analyse_step(after, std::move(planned_after), options); });
+        now = analyse_step(p, std::move(planned), options);
         second.join();
         out.analyses += 2;
       }
@@ -463,7 +464,7 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
     falling_in_a_row = now.step.stands ? 0 : falling_in_a_row + 1;
     best.reset();
     repairs = 0;
-    p.commit(now.fresh, now.layer_left);
+    p.commit(now.fresh, now.leaves_layer);
     if (!now.forces.empty()) p.built = std::move(now.forces);
     for (int i : now.fresh) out.step_of[size_t(i)] = int(out.steps.size()) + 1;
     out.steps.push_back(now.step);
