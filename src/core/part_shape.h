@@ -45,12 +45,33 @@ struct Box {
 struct Shaft {
   // A friction pin's ridges grip its hole: it turns, but holds a little (docs/physics.md). A
   // knuckle is a hinge or turntable half's round surface on its turning line; a locking hinge's
-  // knuckles click in place and hold.
-  enum class Kind : uint8_t { PinHole, AxleHole, Pin, FrictionPin, Axle, Knuckle, LockingKnuckle };
+  // knuckles click in place and hold. A clip grips a bar (3.2 mm across) on its line.
+  enum class Kind : uint8_t {
+    PinHole,
+    AxleHole,
+    Pin,
+    FrictionPin,
+    Axle,
+    Knuckle,
+    LockingKnuckle,
+    Clip,
+    Bar
+  };
   Kind kind = Kind::PinHole;
   Vec3 a{0, 0, 0}, b{0, 0, 0};
   bool hole() const { return kind == Kind::PinHole || kind == Kind::AxleHole; }
   bool knuckle() const { return kind == Kind::Knuckle || kind == Kind::LockingKnuckle; }
+  bool technic() const { return kind <= Kind::Axle; }
+  // What another part's shaft goes into, or meets on its line: a hole, a knuckle, a clip.
+  bool receives() const { return hole() || knuckle() || kind == Kind::Clip; }
+  // Whether `inserted` (a shaft that does not receive) joins `receiver` where they share a line:
+  // a pin or an axle in a hole, a knuckle on a knuckle, a bar in a clip.
+  static bool fits(const Shaft& inserted, const Shaft& receiver) {
+    if (inserted.knuckle() || receiver.knuckle()) return inserted.knuckle() && receiver.knuckle();
+    if (inserted.kind == Kind::Bar || receiver.kind == Kind::Clip)
+      return inserted.kind == Kind::Bar && receiver.kind == Kind::Clip;
+    return receiver.hole() && !inserted.hole();
+  }
   // The axis it lies along (0, 1, 2): the one its two ends differ on most.
   int axis() const {
     int axis = 0;
@@ -63,7 +84,7 @@ struct Shaft {
 
 struct PartShape {
   std::vector<Connector> studs, receptacles;
-  std::vector<Shaft> shafts;  // Technic holes, pins and axles; a hinge's knuckles
+  std::vector<Shaft> shafts;  // Technic holes, pins and axles; a hinge's knuckles; bars, clips
   // Receptacles inside the tubes between four cells (stud4.dat), half a stud off the cells: where
   // a jumper plate's offset stud goes. Not cells: the ground's studs never reach them.
   std::vector<Connector> bores;

@@ -385,8 +385,13 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     pose.rotation = turn ? *turn : rotation;
     pose.origin = placed.pos;
     if (framed) pose = framed->pose;
+    // The slip brings studs onto the plates: a part with none, held on lines by pins, bars or
+    // clips (an exhaust pipe in a headlight brick's hole), stays where it is drawn.
+    const PartShape& shape = k->type.shape;
+    const bool on_plates = !shape.studs.empty() || !shape.receptacles.empty();
     double slip = 0;
-    if (carried_reason.empty() && !framed && std::abs(std::abs(pose.rotation[4]) - 1) < 1e-9) {
+    if (carried_reason.empty() && !framed && on_plates &&
+        std::abs(std::abs(pose.rotation[4]) - 1) < 1e-9) {
       slip = plate_slip(placed.pos[1], plates);
       pose.origin[1] += slip;
     }

@@ -227,17 +227,53 @@ std::vector<Shaft> joined_shafts(std::vector<Shaft> drawn) {
 // the other half tells: contact_graph.cpp joins two halves on a line they share). A locking
 // hinge clicks in place: its knuckles hold.
 std::vector<Shaft> knuckles(const PartGeometry& g) {
-  std::map<ShaftLine, double> cover;
-  for (const Shaft& s : g.rounds)
-    cover[line_of(s)] += std::abs(s.a[size_t(s.axis())] - s.b[size_t(s.axis())]);
   const bool locking = g.title.find("Locking") != std::string::npos;
+  const auto kind = locking ? Shaft::Kind::LockingKnuckle : Shaft::Kind::Knuckle;
+  std::map<ShaftLine, double> cover;
+  for (const Round& r : g.rounds) {
+    const Shaft s{kind, r.a, r.b};
+    cover[line_of(s)] += std::abs(s.a[size_t(s.axis())] - s.b[size_t(s.axis())]);
+  }
   std::vector<Shaft> kept;
-  for (Shaft s : g.rounds)
-    if (cover[line_of(s)] >= 2) {  // slivers are no finger
-      s.kind = locking ? Shaft::Kind::LockingKnuckle : Shaft::Kind::Knuckle;
+  for (const Round& r : g.rounds)
+    if (const Shaft s{kind, r.a, r.b}; cover[line_of(s)] >= 2)  // slivers are no finger
       kept.push_back(s);
-    }
   return joined_shafts(std::move(kept));
+}
+
+// A bar is 3.2 mm across: its round surfaces are 4 LDU in radius and go all the way round its line
+// (a handle's two halves together). A clip grips a bar: the round surfaces of that radius a clip
+// primitive (clip*.dat) draws, half a turn or more of them on the line.
+constexpr double kBarRadius = 4, kBarRadiusTolerance = 0.5;
+std::vector<Shaft> bars_and_clips(const PartGeometry& g) {
+  std::vector<Shaft> out;
+  for (const bool clip : {false, true}) {
+    const auto kind = clip ? Shaft::Kind::Clip : Shaft::Kind::Bar;
+    const double least_turn = clip ? 0.5 : 0.9;
+    std::vector<Shaft> pieces;
+    std::vector<double> turns;
+    for (const Round& r : g.rounds)
+      if (r.clip == clip && std::abs(r.radius - kBarRadius) <= kBarRadiusTolerance) {
+        pieces.push_back({kind, r.a, r.b});
+        turns.push_back(r.turn);
+      }
+    for (const Shaft& whole : joined_shafts(pieces)) {
+      // How much of a turn the pieces on the joined length draw, on average along it.
+      const int axis = whole.axis();
+      const double lo = std::min(whole.a[size_t(axis)], whole.b[size_t(axis)]);
+      const double hi = std::max(whole.a[size_t(axis)], whole.b[size_t(axis)]);
+      double drawn = 0;
+      for (size_t k = 0; k < pieces.size(); ++k) {
+        const Shaft& p = pieces[k];
+        if (line_of(p) != line_of(whole)) continue;
+        const double p_lo = std::min(p.a[size_t(axis)], p.b[size_t(axis)]);
+        const double p_hi = std::max(p.a[size_t(axis)], p.b[size_t(axis)]);
+        drawn += turns[k] * std::max(0.0, std::min(hi, p_hi) - std::max(lo, p_lo));
+      }
+      if (hi - lo >= 1 && drawn >= least_turn * (hi - lo)) out.push_back(whole);
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -463,8 +499,9 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   t.shape.outline = outline(g);
   t.baseplate = g.category == "Baseplate" || g.title.starts_with("Baseplate");
   t.pivots = first_word(g) == "Hinge" || first_word(g) == "Turntable";
-  if (t.pivots)
-    for (const Shaft& s : knuckles(g)) t.shape.shafts.push_back(s);
+  // A hinge's round surfaces are its knuckles (its pin among them), and nothing else.
+  const std::vector<Shaft> rounds = t.pivots ? knuckles(g) : bars_and_clips(g);
+  t.shape.shafts.insert(t.shape.shafts.end(), rounds.begin(), rounds.end());
   if (t.shape.body.empty()) {
     // Nothing but studs: a box around them keeps its weight somewhere.
     k.carried_reason = "its file draws no body";
@@ -498,8 +535,8 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   if (k.carried_reason.empty() && t.shape.studs.empty() && t.shape.receptacles.empty() &&
       t.shape.shafts.empty())
     k.carried_reason =
-        "no studs, receptacles, pin holes, pins or axles (its connections are not "
-        "modelled)";
+        "no studs, receptacles, pin holes, pins, axles, bars or clips (its connections are "
+        "not modelled)";
   return k;
 }
 

@@ -95,17 +95,31 @@ std::optional<Shaft::Kind> shaft_primitive(std::string_view b) {
   return std::nullopt;
 }
 
-bool is_cylinder_primitive(std::string_view b) {
+namespace {
+
+// The share of a full turn a cylinder primitive draws, by its file name: 2-4cyli.dat 0.5,
+// 48/4-4cylo.dat 1; nullopt for any other file.
+std::optional<double> cylinder_turn(std::string_view b) {
   if (b.empty() || !std::isdigit(static_cast<unsigned char>(b.front())) || !b.ends_with(".dat"))
-    return false;
+    return std::nullopt;
   const auto dash = b.find('-');
-  if (dash == std::string_view::npos) return false;
+  if (dash == std::string_view::npos) return std::nullopt;
   const std::string_view shape = b.substr(dash + 1);
   const auto cyl = shape.find("cyl");
-  return cyl != std::string_view::npos && shape.size() > cyl + 3 &&
-         (shape[cyl + 3] == 'i' || shape[cyl + 3] == 'o' || shape[cyl + 3] == 'c') &&
-         shape.substr(cyl + 4) == ".dat";
+  if (cyl == std::string_view::npos || shape.size() <= cyl + 3 ||
+      (shape[cyl + 3] != 'i' && shape[cyl + 3] != 'o' && shape[cyl + 3] != 'c') ||
+      shape.substr(cyl + 4) != ".dat")
+    return std::nullopt;
+  int part = 0, whole = 0;
+  const std::string_view n = b.substr(0, dash), d = shape.substr(0, cyl);
+  if (std::from_chars(n.data(), n.data() + n.size(), part).ptr != n.data() + n.size() ||
+      std::from_chars(d.data(), d.data() + d.size(), whole).ptr != d.data() + d.size() ||
+      part <= 0 || whole <= 0)
+    return std::nullopt;
+  return std::min(1.0, double(part) / whole);
 }
+
+}  // namespace
 
 std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
                                                            const FileFinder& find,
@@ -217,12 +231,27 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
       for (int k = 0; k < 3; ++k) axes += std::abs(a[size_t(k)] - b[size_t(k)]) > 1e-3;
       if (axes == 1) into.push_back({s.kind, a, b});
     };
+    // A round's radius grows with what t does across its axis.
+    auto take_round = [&](Round r, bool clip) {
+      const int axis = Shaft{Shaft::Kind::Knuckle, r.a, r.b}.axis();
+      const Vec3 a = transformed(t, r.a), b = transformed(t, r.b);
+      int axes = 0;
+      for (int k = 0; k < 3; ++k) axes += std::abs(a[size_t(k)] - b[size_t(k)]) > 1e-3;
+      if (axes != 1) return;
+      auto column = [&](int k) {
+        return std::hypot(t.rot[size_t(k)], t.rot[3 + size_t(k)], t.rot[6 + size_t(k)]);
+      };
+      r.radius *= (column((axis + 1) % 3) + column((axis + 2) % 3)) / 2;
+      if (r.radius < 2) return;
+      r.a = a, r.b = b, r.clip = r.clip || clip;
+      g->rounds.push_back(r);
+    };
     const auto kind = shaft_primitive(base);
-    if (is_cylinder_primitive(base)) {
-      if (std::hypot(t.rot[0], t.rot[3], t.rot[6]) >= 2)
-        take(g->rounds, {Shaft::Kind::Knuckle, {0, 0, 0}, {0, 1, 0}});
+    if (const auto turn = cylinder_turn(base)) {
+      take_round({{0, 0, 0}, {0, 1, 0}, 1, *turn, false}, false);
     } else if (!base.starts_with("stud") && !kind) {
-      for (const Shaft& s : sub->rounds) take(g->rounds, s);
+      const bool clip = base.starts_with("clip");
+      for (const Round& r : sub->rounds) take_round(r, clip);
     }
     if (kind) {
       double lo = 1e300, hi = -1e300;

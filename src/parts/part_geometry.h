@@ -24,6 +24,15 @@ struct Triangle {
   std::array<Vec3, 3> p;
 };
 
+// A cylinder primitive's surface along one of the part's axes: from `a` to `b`, its radius, the
+// share of a full turn it draws (2-4cyli.dat: 0.5), and whether a clip primitive (clip*.dat)
+// draws it.
+struct Round {
+  Vec3 a{0, 0, 0}, b{0, 0, 0};
+  double radius = 0, turn = 1;
+  bool clip = false;
+};
+
 struct PartGeometry {
   std::vector<Triangle> faces;   // type 3 and 4 lines, stud primitives left out
   std::vector<Connector> studs;  // stud primitives whose axis is one of the six directions
@@ -31,10 +40,10 @@ struct PartGeometry {
   // Technic hole, pin and axle primitives along one of the axes, each as drawn (a pin hole's end
   // rings, a pin's halves: derive.cpp joins them); those at other angles are left out.
   std::vector<Shaft> shafts;
-  // Cylinder primitives (…cyli, …cylo, …cylc) at least 2 LDU in radius along one of the axes, as
-  // Knuckle shafts: where a hinge half may turn (derive.cpp keeps them for hinges only). Those
-  // inside stud and tube primitives are left out.
-  std::vector<Shaft> rounds;
+  // Cylinder primitives (…cyli, …cylo, …cylc) at least 2 LDU in radius along one of the axes:
+  // where a hinge half may turn, a bar, a clip's grip (derive.cpp tells which). Those inside stud
+  // and tube primitives are left out.
+  std::vector<Round> rounds;
   std::string title;                 // the file's first line, "~Moved to" followed
   std::string category;              // !CATEGORY, or the title's first word
   std::vector<std::string> missing;  // subfiles not found, each name once, sorted

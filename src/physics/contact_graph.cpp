@@ -784,8 +784,9 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
   }
   // Technic and hinge joints (docs/physics.md, "Joints"): a pin or an axle of one part on the line
   // of another's hole, within a LDU of it and overlapping it, joins the two; so do two hinge
-  // halves' knuckles on one line that overlap or interleave (fingers between fingers). An axle in
-  // an axle hole and a locking hinge hold every way; anything else turns about the line. Lines
+  // halves' knuckles on one line that overlap or interleave (fingers between fingers), and a bar
+  // in a clip. An axle in an axle hole and a locking hinge hold every way; anything else turns
+  // about the line, a clip gripping its bar as a friction pin does its hole. Lines
   // along the model's axes are compared in the model's frame, so a hinge half turned on its own
   // lattice meets its other half; others within one lattice.
   std::set<std::pair<int, int>> shaft_joined;
@@ -813,13 +814,13 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
       return Line{p.axis, std::llround(p.a[size_t(u)]) + du, std::llround(p.a[size_t(v)]) + dv,
                   p.frame};
     };
-    std::map<Line, std::vector<Placed>> receivers;  // holes and knuckles
-    std::vector<Placed> inserted;                   // pins, axles and knuckles
+    std::map<Line, std::vector<Placed>> receivers;  // holes, knuckles and clips
+    std::vector<Placed> inserted;                   // pins, axles, knuckles and bars
     for (int i = 0; i < n; ++i)
       for (const Shaft& s : shapes[size_t(i)].shafts) {
         const Placed p = place(i, s);
-        if (s.hole() || s.knuckle()) receivers[line_of(p, 0, 0)].push_back(p);
-        if (!s.hole()) inserted.push_back(p);
+        if (s.receives()) receivers[line_of(p, 0, 0)].push_back(p);
+        if (!s.receives() || s.knuckle()) inserted.push_back(p);
       }
     struct Fit {
       double lo = 1e300, hi = -1e300;
@@ -838,8 +839,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
             for (const Placed& r : it->second) {
               const int i = r.brick, j = s.brick;
               if (i == j || (g.fixed[size_t(i)] && g.fixed[size_t(j)])) continue;
-              if (r.shaft->knuckle() != s.shaft->knuckle() || (s.shaft->knuckle() && i > j))
-                continue;
+              if (!Shaft::fits(*s.shaft, *r.shaft) || (s.shaft->knuckle() && i > j)) continue;
               const int axis = s.axis, u = (axis + 1) % 3, v = (axis + 2) % 3;
               if (std::hypot(r.a[size_t(u)] - s.a[size_t(u)], r.a[size_t(v)] - s.a[size_t(v)]) >
                   kCarriedReach)
@@ -864,7 +864,8 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
                         (kind == Shaft::Kind::LockingKnuckle && other == kind) ||
                         (knuckles && second_line);
               f.line = line;
-              f.friction = f.friction || kind == Shaft::Kind::FrictionPin;
+              f.friction =
+                  f.friction || kind == Shaft::Kind::FrictionPin || other == Shaft::Kind::Clip;
               f.on = &r;
             }
           }

@@ -268,6 +268,28 @@ bool nudge_onto_the_lattice(Audit& audit, const std::vector<char>& floating,
   return any;
 }
 
+// A part held by bars alone (a lightsaber blade, a flag's pole) is analysed through the clips
+// that hold them. Where no clip does, what holds it (a minifigure's hand, a hollow stud, a tyre on
+// it as an axle) is not modelled: it is carried, with its weight.
+void carry_bars_in_no_clip(Audit& audit, physics::GroundMode ground) {
+  const Assembly& a = audit.conversion.assembly;
+  std::vector<char> loose(a.bricks.size(), 0);
+  bool any = false;
+  for (size_t i = 0; i < a.bricks.size(); ++i) {
+    const PartShape& shape = a.bricks[i].type->shape;
+    loose[i] = shape.studs.empty() && shape.receptacles.empty() && !shape.shafts.empty() &&
+               std::all_of(shape.shafts.begin(), shape.shafts.end(),
+                           [](const Shaft& s) { return s.kind == Shaft::Kind::Bar; });
+    any = any || loose[i];
+  }
+  if (!any) return;
+  const auto graph = physics::ContactGraph::build(a, ground);
+  for (int k : graph.shaft_joints)
+    for (int b : {graph.contacts[size_t(k)].lower, graph.contacts[size_t(k)].upper})
+      if (b != physics::kGround) loose[size_t(b)] = 0;
+  carry_bricks(audit, loose, "a bar no clip holds (what holds it is not modelled)");
+}
+
 // PHYSICS.md: a part placed off the stud lattice is carried. Where a part's studs and receptacles
 // meet nothing that stands, that is what happened to it (an ornament on a half-stud offset, a
 // door on its hinge pins, a roof whose supports are carried): such parts become carried, and
@@ -291,7 +313,8 @@ void carry_unconnected(Audit& audit, physics::GroundMode ground) {
     technic = technic || shafts_only[i];
   }
   if (technic) {
-    carry_bricks(audit, shafts_only, "its pins, axles and holes meet nothing that stands");
+    carry_bricks(audit, shafts_only,
+                 "its pins, axles, holes, bars and clips meet nothing that stands");
     now = floating_bricks(a, ground);
   }
   const physics::ContactGraph& graph = now.graph;
@@ -702,6 +725,7 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
                                         fixed_parts(audit.model, options.ground_parts, audit.file));
   lower_ground_under_unknown_parts(audit);
   carry_lone_turned(audit, options.stability.ground);
+  carry_bars_in_no_clip(audit, options.stability.ground);
   carry_unconnected(audit, options.stability.ground);
   audit.parts_seconds = seconds_since(start);
   if (audit.conversion.assembly.bricks.empty()) {

@@ -231,6 +231,62 @@ TEST(BrickcheckReal, AHingeTurnsUnderASideLoad) {
       << text.out;
 }
 
+// A plate hanging by its handle (2540) in a horizontal clip (6019) beside a brick: the handle is
+// a bar, the clip grips it on its line, and the joint turns about that line, holding what a
+// friction pin holds (docs/physics.md, "Joints"). The plate's own weight, a stud out, it holds;
+// 20 g on its studs it does not, and the clip is the weakest contact. A bar that no clip holds
+// (a lightsaber blade standing on a brick) is carried, saying so.
+TEST(BrickcheckReal, APlateHangsByItsHandleInAClip) {
+  SKIP_WITHOUT_SHARED();
+  const auto hang = model("hang.ldr",
+                          "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                          "1 15 10 -8 -10 1 0 0 0 1 0 0 0 1 6019.dat\n"
+                          "1 2 10 -8 -50 -1 0 0 0 1 0 0 0 -1 2540.dat\n");
+  json j = check(hang, 0, {"--strict"});
+  EXPECT_EQ(j["bricks"], 3);
+  EXPECT_TRUE(j["carried"].empty());
+  ASSERT_EQ(j["technic_joints"].size(), 1u);
+  EXPECT_EQ(j["technic_joints"][0]["kind"], "turns");
+  EXPECT_EQ(j["technic_joints"][0]["a"]["part"], "6019");
+  EXPECT_EQ(j["technic_joints"][0]["b"]["part"], "2540");
+  EXPECT_TRUE(j["strict"]["passes"]);
+  const double held = j["cm_gf"].get<double>();
+  EXPECT_GT(held, 60);
+  EXPECT_LT(held, 71.658 - 1);  // the clip's grip holds the plate's moment, and is what binds
+  json loaded = check(hang, 1, {"--load", "5=20"});
+  EXPECT_LT(loaded["cm_gf"].get<double>(), 0);
+  ASSERT_FALSE(loaded["weakest"].empty());
+  EXPECT_EQ(loaded["weakest"][0]["a"]["part"], "6019");
+  EXPECT_EQ(loaded["weakest"][0]["b"]["part"], "2540");
+  // The same plate 10 LDU off the clip's line: no joint, and nothing holds it.
+  json off = check(model("off.ldr",
+                         "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                         "1 15 10 -8 -10 1 0 0 0 1 0 0 0 1 6019.dat\n"
+                         "1 2 10 -8 -60 -1 0 0 0 1 0 0 0 -1 2540.dat\n"),
+                   1);
+  EXPECT_TRUE(off["technic_joints"].empty());
+  EXPECT_EQ(off["floating_carried"].size() + off["floating"].size(), 1u);
+  json blade = check(model("blade.ldr",
+                           "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                           "1 0 10 -80 -10 1 0 0 0 1 0 0 0 1 30374.dat\n"),
+                     0);
+  ASSERT_EQ(blade["carried"].size(), 1u);
+  EXPECT_EQ(blade["carried"][0]["reason"], "a bar no clip holds (what holds it is not modelled)");
+}
+
+// A lightsaber blade (30374, a bar) in a vertical clip (4085b): analysed, joined to the clip.
+TEST(BrickcheckReal, ABarStandsInAVerticalClip) {
+  SKIP_WITHOUT_SHARED();
+  json j = check(model("clip.ldr",
+                       "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                       "1 15 10 -8 -10 1 0 0 0 1 0 0 0 1 4085b.dat\n"
+                       "1 0 10 -60 -30 1 0 0 0 1 0 0 0 1 30374.dat\n"),
+                 0);
+  EXPECT_EQ(j["bricks"], 3);
+  ASSERT_EQ(j["technic_joints"].size(), 1u);
+  EXPECT_EQ(j["technic_joints"][0]["b"]["part"], "30374");
+}
+
 // An arm on a turntable: the top turns on the base about their shared vertical line, a joint
 // that passes force and no moment about that line; gravity has none about it, so the arm is held
 // as PHYSICS.md's check of a 1 x 8 brick on three knobs of the plate on the top. (The corpus's

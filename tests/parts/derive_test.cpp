@@ -181,6 +181,39 @@ TEST(DerivePart, HingeAndTurntableKnuckles) {
     for (const Shaft& s : shafts(round)) EXPECT_FALSE(s.knuckle()) << round;
 }
 
+// Bars are round surfaces 4 LDU in radius all the way round their line; clips are what clip
+// primitives draw at that radius. A hinge's round surfaces are its knuckles only.
+TEST(DerivePart, BarsAndClips) {
+  SKIP_WITHOUT_SHARED();
+  auto shafts = [](const char* part) { return derived(shared_library(), part).type.shape.shafts; };
+  const auto blade = shafts("30374");  // Bar 4L: along its y, 80 LDU
+  ASSERT_EQ(blade.size(), 1u);
+  EXPECT_EQ(blade[0].kind, Shaft::Kind::Bar);
+  EXPECT_EQ(blade[0].axis(), 1);
+  EXPECT_NEAR(std::abs(blade[0].b[1] - blade[0].a[1]), 80, 1e-9);
+  const auto vertical = shafts("4085b");  // its clip stands up beside the plate
+  ASSERT_EQ(vertical.size(), 1u);
+  EXPECT_EQ(vertical[0].kind, Shaft::Kind::Clip);
+  EXPECT_EQ(vertical[0].axis(), 1);
+  EXPECT_NEAR(vertical[0].a[2], -20, 1e-9);
+  const auto horizontal = shafts("6019");  // its clip lies along x
+  ASSERT_FALSE(horizontal.empty());
+  for (const Shaft& s : horizontal) {
+    EXPECT_EQ(s.kind, Shaft::Kind::Clip);
+    EXPECT_EQ(s.axis(), 0);
+  }
+  const auto handle = shafts("2540");  // the handle's bar, between and beside its two posts
+  ASSERT_FALSE(handle.empty());
+  for (const Shaft& s : handle) {
+    EXPECT_EQ(s.kind, Shaft::Kind::Bar);
+    EXPECT_EQ(s.axis(), 0);
+    EXPECT_NEAR(s.a[1], 2, 1e-9);
+    EXPECT_NEAR(s.a[2], -20, 1e-9);
+  }
+  EXPECT_TRUE(shafts("3001").empty());
+  for (const Shaft& s : shafts("3938")) EXPECT_TRUE(s.knuckle());
+}
+
 // Written here, without ../shared: the test library of tests/data (tests/data/make_library.py).
 TEST(DerivePart, TheTestLibrary) {
   const fs::path library = test::data_dir() / "library";
