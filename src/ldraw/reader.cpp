@@ -585,12 +585,9 @@ class Flattener {
         return descend(*sub, sub->blocks.front(), ref, world, color);
       }
     }
-    std::string ext = ascii_lower(fs::path(ref.name).extension().string());
-    if (ext == ".ldr" || ext == ".mpd" || ext == ".l3b") {
-      diag(Severity::Error, doc, ref.line, fmt::format("missing submodel '{}'", ref.name));
-      return;
-    }
-    add_part(doc, ref, world, color, submodel, {}, {});  // a part with no definition here
+    // A part, or a submodel, with no definition here: left out by whoever needs its file, with
+    // this line, as a missing part is (a town whose terrain file is not in every copy).
+    add_part(doc, ref, world, color, submodel, {}, {});
   }
 
   void descend(const Document& doc, const Block& target, const RefLine& ref, const Transform& world,

@@ -9,6 +9,7 @@
 #include <map>
 
 #include "core/lattice.h"
+#include "core/text.h"
 
 namespace lego::parts {
 namespace {
@@ -357,6 +358,10 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     std::string why;
     const PartKnowledge* k = library.knowledge(p, model, why);
     if (!k) {
+      const std::string ext = ascii_lower(std::filesystem::path(p.reference).extension().string());
+      if (ext == ".ldr" || ext == ".mpd" || ext == ".l3b")
+        why = fmt::format("missing submodel '{}': in neither the file, its folder nor the library",
+                          p.reference);
       out.skipped.push_back({i, why});
       continue;
     }
