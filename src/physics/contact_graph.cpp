@@ -469,18 +469,22 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
   }
 
   // Faces that touch, and bodies that overlap.
-  std::vector<int> seen;
+  // A box in several cells is met once per cell: the candidates are gathered, then taken once
+  // each (a baseplate near thousands of parts made a search of those seen quadratic).
+  std::vector<int> near;
   for (int id = 0; id < int(box_owner.size()); ++id) {
     const Box& bi = box(id);
     const int i = box_owner[size_t(id)].first;
-    seen.clear();
+    near.clear();
     index.near(bi, kTouch, [&](int other) {
-      if (other <= id || box_owner[size_t(other)].first == i) return;
-      if (std::find(seen.begin(), seen.end(), other) != seen.end()) return;
-      seen.push_back(other);
+      if (other > id && box_owner[size_t(other)].first != i) near.push_back(other);
+    });
+    std::sort(near.begin(), near.end());
+    near.erase(std::unique(near.begin(), near.end()), near.end());
+    for (const int other : near) {
       const Box& bj = box(other);
       const int j = box_owner[size_t(other)].first;
-      if (frame_of(i) != frame_of(j)) return;
+      if (frame_of(i) != frame_of(j)) continue;
       double overlap[3];
       int touching = -1, shared = 0;
       int wide = 0;
@@ -494,10 +498,10 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
       }
       if (shared == 3) {
         g.overlaps.emplace_back(std::min(i, j), std::max(i, j));
-        return;
+        continue;
       }
       if (shared != 2 || wide != 2 || touching < 0 || (g.fixed[size_t(i)] && g.fixed[size_t(j)]))
-        return;
+        continue;
       const bool i_below = std::abs(bi.max[touching] - bj.min[touching]) <= kTouch;
       const int lower = i_below ? i : j, upper = i_below ? j : i;
       const double plane = i_below ? bi.max[touching] : bj.max[touching];
@@ -508,7 +512,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
       }
       Meeting& m = meeting(lower, upper, direction_of(touching, false), plane);
       grow(m.patch, m.has_patch, in_plane(common, touching));
-    });
+    }
   }
   std::sort(g.overlaps.begin(), g.overlaps.end());
   g.overlaps.erase(std::unique(g.overlaps.begin(), g.overlaps.end()), g.overlaps.end());
