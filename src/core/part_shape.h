@@ -61,7 +61,6 @@ struct Shaft {
   Vec3 a{0, 0, 0}, b{0, 0, 0};
   bool hole() const { return kind == Kind::PinHole || kind == Kind::AxleHole; }
   bool knuckle() const { return kind == Kind::Knuckle || kind == Kind::LockingKnuckle; }
-  bool technic() const { return kind <= Kind::Axle; }
   // What another part's shaft goes into, or meets on its line: a hole, a knuckle, a clip.
   bool receives() const { return hole() || knuckle() || kind == Kind::Clip; }
   // Whether `inserted` (a shaft that does not receive) joins `receiver` where they share a line:

@@ -225,19 +225,21 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
           {{transformed(t, tri.p[0]), transformed(t, tri.p[1]), transformed(t, tri.p[2])}});
     // A Technic primitive is one shaft along its y axis, as long as it draws; what it is drawn
     // with is not another. A cylinder primitive's axis is its y from 0 to 1, its radius its x.
-    auto take = [&](std::vector<Shaft>& into, const Shaft& s) {
-      const Vec3 a = transformed(t, s.a), b = transformed(t, s.b);
+    // Shafts and rounds turned off the part's axes are left out.
+    auto along_one_axis = [](const Vec3& a, const Vec3& b) {
       int axes = 0;
       for (int k = 0; k < 3; ++k) axes += std::abs(a[size_t(k)] - b[size_t(k)]) > 1e-3;
-      if (axes == 1) into.push_back({s.kind, a, b});
+      return axes == 1;
+    };
+    auto take = [&](std::vector<Shaft>& into, const Shaft& s) {
+      const Vec3 a = transformed(t, s.a), b = transformed(t, s.b);
+      if (along_one_axis(a, b)) into.push_back({s.kind, a, b});
     };
     // A round's radius grows with what t does across its axis.
     auto take_round = [&](Round r, bool clip) {
       const int axis = Shaft{Shaft::Kind::Knuckle, r.a, r.b}.axis();
       const Vec3 a = transformed(t, r.a), b = transformed(t, r.b);
-      int axes = 0;
-      for (int k = 0; k < 3; ++k) axes += std::abs(a[size_t(k)] - b[size_t(k)]) > 1e-3;
-      if (axes != 1) return;
+      if (!along_one_axis(a, b)) return;
       auto column = [&](int k) {
         return std::hypot(t.rot[size_t(k)], t.rot[3 + size_t(k)], t.rot[6 + size_t(k)]);
       };

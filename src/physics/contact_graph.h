@@ -57,10 +57,9 @@ struct Contact {
   // Its plane, patch and friction points are in the lattice frame of `upper`, which lies on a
   // turned frame (Brick::frame); otherwise, and for a joint, in the model's.
   bool turned = false;
-  Vec3 joint_point{0, 0, 0};  // lattice frame, LDU
-  Vec3 joint_axis{0, 0, 0};   // with Kind::Turns: the shaft's axis, a unit vector in the model
-  bool joint_friction =
-      false;  // with Kind::Turns: a friction pin or a clip, holding kFrictionPinMoment
+  Vec3 joint_point{0, 0, 0};    // lattice frame, LDU
+  Vec3 joint_axis{0, 0, 0};     // with Kind::Turns: the shaft's axis, a unit vector in the model
+  bool joint_friction = false;  // with Kind::Turns: a friction pin or a clip, kFrictionPinMoment
   uint32_t first_point = 0, point_count = 0;  // range in ContactGraph::friction_points
   bool snap() const { return studs > 0; }
 };

@@ -270,8 +270,8 @@ bool nudge_onto_the_lattice(Audit& audit, const std::vector<char>& floating,
 
 // A part held by bars alone (a lightsaber blade, a flag's pole) is analysed through the clips
 // that hold them. Where no clip does, what holds it (a minifigure's hand, a hollow stud, a tyre on
-// it as an axle) is not modelled: it is carried, with its weight.
-void carry_bars_in_no_clip(Audit& audit, physics::GroundMode ground) {
+// it as an axle) is not modelled: it is carried, with its weight. Returns whether any was.
+bool carry_bars_in_no_clip(Audit& audit, const physics::ContactGraph& graph) {
   const Assembly& a = audit.conversion.assembly;
   std::vector<char> loose(a.bricks.size(), 0);
   bool any = false;
@@ -282,12 +282,13 @@ void carry_bars_in_no_clip(Audit& audit, physics::GroundMode ground) {
                            [](const Shaft& s) { return s.kind == Shaft::Kind::Bar; });
     any = any || loose[i];
   }
-  if (!any) return;
-  const auto graph = physics::ContactGraph::build(a, ground);
+  if (!any) return false;
   for (int k : graph.shaft_joints)
     for (int b : {graph.contacts[size_t(k)].lower, graph.contacts[size_t(k)].upper})
       if (b != physics::kGround) loose[size_t(b)] = 0;
+  if (std::find(loose.begin(), loose.end(), 1) == loose.end()) return false;
   carry_bricks(audit, loose, "a bar no clip holds (what holds it is not modelled)");
+  return true;
 }
 
 // PHYSICS.md: a part placed off the stud lattice is carried. Where a part's studs and receptacles
@@ -300,6 +301,7 @@ void carry_bars_in_no_clip(Audit& audit, physics::GroundMode ground) {
 void carry_unconnected(Audit& audit, physics::GroundMode ground) {
   const Assembly& a = audit.conversion.assembly;
   Floating now = floating_bricks(a, ground);
+  if (carry_bars_in_no_clip(audit, now.graph)) now = floating_bricks(a, ground);
   if (std::find(now.bricks.begin(), now.bricks.end(), 1) == now.bricks.end()) return;
   if (nudge_onto_the_lattice(audit, now.bricks, ground)) now = floating_bricks(a, ground);
   // Technic parts held by nothing but their pins, axles and holes, where those meet nothing that
@@ -725,7 +727,6 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
                                         fixed_parts(audit.model, options.ground_parts, audit.file));
   lower_ground_under_unknown_parts(audit);
   carry_lone_turned(audit, options.stability.ground);
-  carry_bars_in_no_clip(audit, options.stability.ground);
   carry_unconnected(audit, options.stability.ground);
   audit.parts_seconds = seconds_since(start);
   if (audit.conversion.assembly.bricks.empty()) {
