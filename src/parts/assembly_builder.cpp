@@ -316,6 +316,7 @@ class PartTurnLattices {
 AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
                                const std::vector<size_t>& fixed_parts) {
   AssemblyConversion out;
+  EmbeddedParts embedded(model);
   // A model drawn turned as a whole (a car tilted 1° on its springs) is analysed in its own frame.
   const auto frame = model_frame(model);
   if (frame)
@@ -356,7 +357,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     }
     const ldraw::Transform placed = in_frame(p.transform);
     std::string why;
-    const PartKnowledge* k = library.knowledge(p, model, why);
+    const PartKnowledge* k = library.knowledge(p, embedded, why);
     if (!k) {
       const std::string ext = ascii_lower(std::filesystem::path(p.reference).extension().string());
       if (ext == ".ldr" || ext == ".mpd" || ext == ".l3b")

@@ -17,20 +17,30 @@ std::string base_name(const std::string& name) {
 
 }  // namespace
 
+EmbeddedParts::EmbeddedParts(const ldraw::Model& model) {
+  for (const auto& [block, text] : model.embedded_parts)
+    text_.emplace("embedded:" + safe_reference(block), text);
+}
+
 PartLibrary::PartLibrary(std::vector<std::filesystem::path> library_dirs,
                          const BrickCatalog& catalog)
     : catalog_(catalog), files_(std::move(library_dirs)) {}
 
-const PartKnowledge* PartLibrary::derive(
-    const std::string& name, const PartFile& file, GeometryCache& cache, const FileFinder& find,
-    std::unordered_map<std::string, std::unique_ptr<PartKnowledge>>& known, std::string& why) {
-  if (auto it = known.find(file.key); it != known.end()) return it->second.get();
-  if (auto it = failed_.find(file.key); it != failed_.end()) {
+double PartLibrary::seconds() const {
+  const std::lock_guard lock(mutex_);
+  return seconds_;
+}
+
+const PartKnowledge* PartLibrary::derive(const std::string& name, const PartFile& file,
+                                         DerivedParts& derived, const FileFinder& find,
+                                         std::string& why) {
+  if (auto it = derived.known.find(file.key); it != derived.known.end()) return it->second.get();
+  if (auto it = derived.failed.find(file.key); it != derived.failed.end()) {
     why = it->second;
     return nullptr;
   }
   const auto start = std::chrono::steady_clock::now();
-  auto geometry = cache.flatten(file, find, why);
+  auto geometry = derived.geometry.flatten(file, find, why);
   const PartKnowledge* out = nullptr;
   if (geometry) {
     // A part larger than any made (the largest baseplates are 48 studs across) would make the
@@ -43,18 +53,19 @@ const PartKnowledge* PartLibrary::derive(
     }
   }
   if (!geometry) {
-    failed_[file.key] = why;
+    derived.failed[file.key] = why;
   } else {
     auto k = std::make_unique<PartKnowledge>(derive_part(name, *geometry, catalog_));
     out = k.get();
-    known.emplace(file.key, std::move(k));
+    derived.known.emplace(file.key, std::move(k));
   }
   seconds_ += seconds_since(start);
   return out;
 }
 
-const PartKnowledge* PartLibrary::knowledge(const ldraw::PlacedPart& p, const ldraw::Model& model,
+const PartKnowledge* PartLibrary::knowledge(const ldraw::PlacedPart& p, EmbeddedParts& embedded,
                                             std::string& why) {
+  const std::lock_guard lock(mutex_);
   if (const BrickType* t = catalog_.find(p.part)) {
     auto& k = catalog_parts_[t->part];
     if (!k) {
@@ -66,25 +77,17 @@ const PartKnowledge* PartLibrary::knowledge(const ldraw::PlacedPart& p, const ld
   const FileFinder from_library = [this](std::string_view reference, std::string& w) {
     return files_.find(reference, w);
   };
-  if (!p.embedded_definition.empty() || !model.embedded_parts.empty()) {
-    if (embedding_model_ != &model) {  // a new model: its own blocks
-      embedding_model_ = &model;
-      embedded_geometry_ = std::make_unique<GeometryCache>();
-      embedded_known_.clear();
-      embedded_text_.clear();
-      for (const auto& [block, text] : model.embedded_parts)
-        embedded_text_.emplace("embedded:" + safe_reference(block), text);
-    }
-    const FileFinder embedded_first = [this, &from_library](std::string_view reference,
-                                                            std::string& w) {
+  if (!p.embedded_definition.empty() || !embedded.text_.empty()) {
+    const FileFinder embedded_first = [&embedded, &from_library](std::string_view reference,
+                                                                 std::string& w) {
       const std::string name = safe_reference(reference);
       for (const std::string& key :
            {"embedded:" + name, "embedded:parts/" + name, "embedded:p/" + name}) {
-        auto it = embedded_text_.find(key);
-        if (it != embedded_text_.end()) return std::optional<PartFile>(PartFile{key, &it->second});
+        auto it = embedded.text_.find(key);
+        if (it != embedded.text_.end()) return std::optional<PartFile>(PartFile{key, &it->second});
       }
       // Packed files name blocks by their path ("parts/s/3001s01.dat") or bare.
-      for (auto& [key, text] : embedded_text_)
+      for (auto& [key, text] : embedded.text_)
         if (base_name(key) == base_name(name)) return std::optional<PartFile>(PartFile{key, &text});
       return from_library(reference, w);
     };
@@ -99,7 +102,7 @@ const PartKnowledge* PartLibrary::knowledge(const ldraw::PlacedPart& p, const ld
           "--ldraw-dir)";
       return nullptr;
     }
-    return derive(p.part, *file, *embedded_geometry_, embedded_first, embedded_known_, why);
+    return derive(p.part, *file, embedded.derived_, embedded_first, why);
   }
   if (p.definition.empty()) {
     why =
@@ -109,7 +112,7 @@ const PartKnowledge* PartLibrary::knowledge(const ldraw::PlacedPart& p, const ld
   }
   auto file = files_.read(p.definition, why);
   if (!file) return nullptr;
-  return derive(p.part, *file, geometry_, from_library, known_, why);
+  return derive(p.part, *file, from_files_, from_library, why);
 }
 
 }  // namespace lego::parts

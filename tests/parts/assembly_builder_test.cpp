@@ -175,6 +175,34 @@ TEST(ToAssembly, AnUprightPartOneLduOffThePlatesIsTakenAsOnThem) {
   EXPECT_NE(conv.diagnostics[1].message.find("1 LDU below"), std::string::npos);
 }
 
+// A packed MPD's own part blocks belong to it: a library that read another model first, held in
+// the same variable (so at the same address), finds the blocks of the model it reads now.
+TEST(ToAssembly, EachModelFindsItsOwnEmbeddedParts) {
+  auto packed = [](const std::string& block, double half) {
+    const std::string h = std::to_string(half);
+    return "0 FILE main.ldr\n1 4 0 0 0 1 0 0 0 1 0 0 0 1 " + block + "\n0 FILE " + block +
+           "\n0 !LDRAW_ORG Unofficial_Part\n4 16 -" + h + " 0 -" + h + " " + h + " 0 -" + h + " " +
+           h + " 0 " + h + " -" + h + " 0 " + h + "\n";
+  };
+  const std::vector<std::string> texts{packed("one.dat", 10), packed("two.dat", 10),
+                                       packed("one.dat", 1e7)};
+  PartLibrary shared({}, BrickCatalog::standard());
+  ldraw::Model m;
+  for (const std::string& text : texts) {
+    m = read_text(text, "packed.mpd");
+    ASSERT_EQ(m.embedded_parts.size(), 1u);
+    const auto seen = to_assembly(m, shared);
+    PartLibrary fresh({}, BrickCatalog::standard());
+    const auto alone = to_assembly(m, fresh);
+    ASSERT_EQ(seen.skipped.size(), alone.skipped.size()) << text;
+    for (size_t k = 0; k < seen.skipped.size(); ++k)
+      EXPECT_EQ(seen.skipped[k].reason, alone.skipped[k].reason) << text;
+    EXPECT_EQ(seen.assembly.bricks.size() + seen.assembly.carried.size(),
+              alone.assembly.bricks.size() + alone.assembly.carried.size())
+        << text;
+  }
+}
+
 TEST(ToAssembly, OrthonormalizedAndQuarterTurns) {
   auto r = orthonormalized({0.57, 0, 0.82, 0, 1, 0, -0.82, 0, 0.57}, 1e-2);
   ASSERT_TRUE(r);

@@ -309,16 +309,16 @@ TEST(DerivePart, FanOutThroughMissingFilesAndStudsAndGiantPartsAreBounded) {
   std::ofstream(library / "parts" / "large.dat")
       << "0 Large\n4 16 -1e4 0 -1e4 1e4 0 -1e4 1e4 0 1e4 -1e4 0 1e4\n";
   PartLibrary parts({library}, BrickCatalog::standard());
-  ldraw::Model model;
+  EmbeddedParts none{ldraw::Model{}};
   ldraw::PlacedPart giant;
   giant.part = "giant";
   giant.definition = library / "parts" / "giant.dat";
-  EXPECT_EQ(parts.knowledge(giant, model, why), nullptr);
+  EXPECT_EQ(parts.knowledge(giant, none, why), nullptr);
   EXPECT_NE(why.find("studs across, more than the 1000 a part may be"), std::string::npos) << why;
   ldraw::PlacedPart large = giant;
   large.part = "large";
   large.definition = library / "parts" / "large.dat";
-  EXPECT_NE(parts.knowledge(large, model, why), nullptr) << why;
+  EXPECT_NE(parts.knowledge(large, none, why), nullptr) << why;
 }
 
 }  // namespace

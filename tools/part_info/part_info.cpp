@@ -17,8 +17,8 @@ int main(int argc, char** argv) {
   app.add_option("--ldraw-dir", ldraw_dir, "the LDraw library")->required();
   CLI11_PARSE(app, argc, argv);
   parts::PartLibrary library({ldraw_dir}, BrickCatalog::standard());
+  parts::EmbeddedParts none{ldraw::Model{}};
   for (const std::string& name : names) {
-    ldraw::Model model;
     ldraw::PlacedPart p;
     p.part = normalize_part_name(name);
     p.reference = name;
@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
       if (std::filesystem::exists(path)) p.definition = path;
     }
     std::string why;
-    const parts::PartKnowledge* k = library.knowledge(p, model, why);
+    const parts::PartKnowledge* k = library.knowledge(p, none, why);
     if (!k) {
       fmt::print("{}: {}\n", name, why);
       continue;
