@@ -11,10 +11,12 @@
 #include "app/output_paths.h"
 #include "core/brick_catalog.h"
 #include "core/error.h"
+#include "core/in_order.h"
 #include "core/text.h"
 #include "ldraw/reader.h"
 #include "ldraw/writer.h"
 #include "parts/part_library.h"
+#include "physics/interior_point.h"
 #include "report/audit.h"
 #include "report/instructions.h"
 #include "report/render.h"
@@ -92,6 +94,103 @@ void write_instructions(const report::Audit& audit, const fs::path& dir,
   if (!note.empty()) std::cerr << "brickcheck: " << note << "\n";
 }
 
+// How the exit codes of several files combine: the highest rank wins.
+int rank(int code) {
+  return code == kBadInput       ? 5
+         : code == kUnstable     ? 4
+         : code == kUndecided    ? 3
+         : code == kByAssumption ? 2
+         : code == kNotJudged    ? 1
+                                 : 0;
+}
+
+int exit_code(report::Verdict verdict) {
+  switch (verdict) {
+    case report::Verdict::Stable:
+      return kStable;
+    case report::Verdict::Unstable:
+      return kUnstable;
+    case report::Verdict::Undecided:
+      return kUndecided;
+    case report::Verdict::Unreadable:
+      return kBadInput;
+    case report::Verdict::NothingToAnalyse:
+    case report::Verdict::NotJudged:
+      return kNotJudged;
+    case report::Verdict::StableByAssumption:
+      return kByAssumption;
+  }
+  return kBadInput;
+}
+
+// What the command line asks of every file.
+struct Settings {
+  report::AuditOptions options;
+  bool json = false, quiet = false;
+  std::string heatmap, instructions, ldraw_dir, main_model;
+};
+
+// One file's part of the output, made apart from the others' so that files checked at once
+// print in the order given.
+struct FileReport {
+  int code = kStable;
+  std::string text;     // stdout without --json
+  nlohmann::json json;  // with --json
+  std::string errors;   // stderr
+};
+
+FileReport check_file(const std::string& file, size_t files, const Settings& s,
+                      parts::PartLibrary& library) {
+  FileReport r;
+  report::Audit audit;
+  try {
+    audit = report::audit_file(file, s.options, library);
+  } catch (const InputError& e) {
+    audit.file = file;
+    audit.verdict = report::Verdict::Unreadable;
+    audit.fatal = e.what();
+  }
+  r.code = exit_code(audit.verdict);
+  auto fail = [&](const std::string& why) {
+    r.errors += "brickcheck: " + why + "\n";
+    if (rank(kBadInput) > rank(r.code)) r.code = kBadInput;
+  };
+  if (s.json)
+    r.json = report::render_json(audit, s.options);
+  else
+    r.text = report::render_text(audit, s.quiet);
+  if (audit.verdict == report::Verdict::Unreadable && s.json) r.errors += audit.fatal + "\n";
+
+  if (!s.instructions.empty() && audit.verdict != report::Verdict::Unreadable) {
+    try {
+      write_instructions(audit, s.instructions, s.ldraw_dir, s.main_model, s.quiet || s.json);
+    } catch (const InputError& e) {
+      fail(e.what());
+    }
+  }
+  if (!s.heatmap.empty() && audit.verdict != report::Verdict::Unreadable &&
+      audit.verdict != report::Verdict::NothingToAnalyse) {
+    const fs::path out = heatmap_path(s.heatmap, file, files > 1);
+    try {
+      // A file the model reads that the command line does not name (a submodel in its own
+      // file, a part file beside the model) is no more replaced than the file named.
+      std::set<fs::path> read(audit.model.files.begin(), audit.model.files.end());
+      for (const auto& p : audit.model.parts)
+        if (!p.definition.empty()) read.insert(p.definition);
+      for (const fs::path& f : read)
+        if (app::same_file(out, f))
+          throw InputError(
+              out.string(), 0,
+              "--heatmap: would overwrite " + f.string() + ", which " + file + " reads");
+      ldraw::write_file_atomically(out, report::render_heatmap(audit));
+      if (!s.quiet && !s.json) r.text += "  heat map: " + out.string() + "\n";
+    } catch (const InputError& e) {
+      fail(e.what());
+    }
+  }
+  return r;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -102,7 +201,12 @@ int main(int argc, char** argv) {
   std::vector<std::string> load_texts, ground_part_texts;
   double min_cm = 0, max_seconds = 60;
   bool json = false, steps = false, quiet = false, strict = false;
+  int jobs = 1;
   app.add_option("files", files, "LDraw models to check")->required();
+  app.add_option("-j,--jobs", jobs,
+                 "check this many files at once; the reports still come in the order given "
+                 "(default 1)")
+      ->check(CLI::Range(1, 1024));
   app.add_option("--ldraw-dir", ldraw_dir,
                  "LDraw library for parts we do not ship (default: $LDRAWDIR)");
   app.add_option("--ground", ground, "baseplate: the ground holds knobs; table: it only pushes")
@@ -220,86 +324,21 @@ int main(int argc, char** argv) {
     }
   }
 
-  int worst = kStable;
-  auto rank = [](int code) {
-    return code == kBadInput       ? 5
-           : code == kUnstable     ? 4
-           : code == kUndecided    ? 3
-           : code == kByAssumption ? 2
-           : code == kNotJudged    ? 1
-                                   : 0;
-  };
-  nlohmann::json all = nlohmann::json::array();
+  Settings settings{options, json, quiet, heatmap, instructions, ldraw_dir, main_model};
   parts::PartLibrary library(options.read.library_dirs, BrickCatalog::standard());
-  for (const auto& file : files) {
-    report::Audit audit;
-    int code = kStable;
-    try {
-      audit = report::audit_file(file, options, library);
-    } catch (const InputError& e) {
-      audit.file = file;
-      audit.verdict = report::Verdict::Unreadable;
-      audit.fatal = e.what();
-    }
-    switch (audit.verdict) {
-      case report::Verdict::Stable:
-        code = kStable;
-        break;
-      case report::Verdict::Unstable:
-        code = kUnstable;
-        break;
-      case report::Verdict::Undecided:
-        code = kUndecided;
-        break;
-      case report::Verdict::Unreadable:
-        code = kBadInput;
-        break;
-      case report::Verdict::NothingToAnalyse:
-      case report::Verdict::NotJudged:
-        code = kNotJudged;
-        break;
-      case report::Verdict::StableByAssumption:
-        code = kByAssumption;
-        break;
-    }
-    if (rank(code) > rank(worst)) worst = code;
-
+  auto check = [&](size_t i) { return check_file(files[i], files.size(), settings, library); };
+  int worst = kStable;
+  nlohmann::json all = nlohmann::json::array();
+  const int jobs_used = int(std::min(size_t(jobs), files.size()));
+  const physics::OneBlasThreadEach blas_threads(jobs_used > 1);
+  run_in_order<FileReport>(files.size(), jobs_used, check, [&](size_t, FileReport&& r) {
+    if (rank(r.code) > rank(worst)) worst = r.code;
     if (json)
-      all.push_back(report::render_json(audit, options));
+      all.push_back(std::move(r.json));
     else
-      std::cout << report::render_text(audit, quiet);
-    if (audit.verdict == report::Verdict::Unreadable && json) std::cerr << audit.fatal << "\n";
-
-    if (!instructions.empty() && audit.verdict != report::Verdict::Unreadable) {
-      try {
-        write_instructions(audit, instructions, ldraw_dir, main_model, quiet || json);
-      } catch (const InputError& e) {
-        std::cerr << "brickcheck: " << e.what() << "\n";
-        if (rank(kBadInput) > rank(worst)) worst = kBadInput;
-      }
-    }
-    if (!heatmap.empty() && audit.verdict != report::Verdict::Unreadable &&
-        audit.verdict != report::Verdict::NothingToAnalyse) {
-      fs::path out = heatmap_path(heatmap, file, files.size() > 1);
-      try {
-        // A file the model reads that the command line does not name (a submodel in its own
-        // file, a part file beside the model) is no more replaced than the file named.
-        std::set<fs::path> read(audit.model.files.begin(), audit.model.files.end());
-        for (const auto& p : audit.model.parts)
-          if (!p.definition.empty()) read.insert(p.definition);
-        for (const fs::path& r : read)
-          if (app::same_file(out, r))
-            throw InputError(
-                out.string(), 0,
-                "--heatmap: would overwrite " + r.string() + ", which " + file + " reads");
-        ldraw::write_file_atomically(out, report::render_heatmap(audit));
-        if (!quiet && !json) std::cout << "  heat map: " << out.string() << "\n";
-      } catch (const InputError& e) {
-        std::cerr << "brickcheck: " << e.what() << "\n";
-        if (rank(kBadInput) > rank(worst)) worst = kBadInput;
-      }
-    }
-  }
+      std::cout << r.text << std::flush;
+    std::cerr << r.errors << std::flush;
+  });
   // Titles and names are the user's bytes: text that is not UTF-8 is shown with U+FFFD.
   if (json)
     std::cout << (files.size() == 1 ? all[0] : all)

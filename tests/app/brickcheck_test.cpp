@@ -9,6 +9,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include "app/run_tool.h"
@@ -730,6 +731,60 @@ TEST(Brickcheck, ReaderErrorsExitWithTheirLine) {
   auto run = run_tool("brickcheck", {bomb.string()});
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.out.find("parts; reading stopped"), std::string::npos) << run.out;
+}
+
+// Files checked at once report as if checked one after another: the same bytes on stdout and
+// stderr, in the order given, and the same exit code. The first file is the slowest, so that
+// with two jobs the others finish before it.
+TEST(Brickcheck, FilesCheckedAtOnceReportInTheOrderGiven) {
+  // What may differ between two runs: the time each stage took.
+  auto without_times = [](const std::string& out) {
+    if (out.starts_with("[")) {
+      json j = json::parse(out);
+      for (json& file : j) file.erase("timing");
+      return j.dump(1);
+    }
+    std::istringstream in(out);
+    std::string kept;
+    for (std::string line; std::getline(in, line);)
+      if (!line.starts_with("  time: ")) kept += line + "\n";
+    return kept;
+  };
+  const fs::path wall = scratch("jobs-wall.ldr");
+  {
+    std::ofstream out(wall);
+    out << "0 A running-bond wall\n";
+    for (int row = 0; row < 24; ++row)
+      for (int k = 0; k < 30; ++k)
+        out << "1 4 " << k * 80 + (row % 2) * 40 << " " << -24 * row
+            << " 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  }
+  const fs::path empty = scratch("jobs-empty.ldr");
+  std::ofstream(empty) << "0 nothing\n";
+  std::vector<std::string> files{wall.string()};
+  for (int n : {1, 5, 9}) files.push_back(bridge('a', n).string());
+  files.push_back(empty.string());
+  files.push_back(scratch("jobs-missing.ldr").string());
+  for (int n : {3, 7}) files.push_back(bridge('b', n).string());
+  for (const std::vector<std::string>& flags :
+       {std::vector<std::string>{}, {"--quiet"}, {"--json"}}) {
+    auto args = [&](const char* jobs) {
+      std::vector<std::string> a{"-j", jobs};
+      a.insert(a.end(), flags.begin(), flags.end());
+      a.insert(a.end(), files.begin(), files.end());
+      return a;
+    };
+    const auto one = run_tool("brickcheck", args("1"));
+    EXPECT_EQ(one.exit_code, 2) << one.err;
+    EXPECT_NE(one.out.find("jobs-wall.ldr"), std::string::npos);
+    for (const char* jobs : {"2", "3"}) {
+      const auto several = run_tool("brickcheck", args(jobs));
+      EXPECT_EQ(several.exit_code, one.exit_code) << jobs;
+      EXPECT_EQ(without_times(several.out), without_times(one.out)) << jobs;
+      EXPECT_EQ(several.err, one.err) << jobs;
+    }
+  }
+  EXPECT_EQ(run_tool("brickcheck", {"-j", "0", wall.string()}).exit_code, 2);
 }
 
 TEST(Brickcheck, FiftyThousandPartsInSeconds) {
