@@ -1,10 +1,12 @@
 // brickcheck: audits LDraw models for connectivity and stability (paper section 6).
 #include <fmt/format.h>
+#include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <mutex>
 #include <set>
 
 #include "app/number_checks.h"
@@ -127,6 +129,7 @@ int exit_code(report::Verdict verdict) {
 struct Settings {
   report::AuditOptions options;
   bool json = false, quiet = false;
+  bool progress = false;  // a progress line on stderr for long stages
   std::string heatmap, instructions, ldraw_dir, main_model;
 };
 
@@ -139,12 +142,40 @@ struct FileReport {
   std::string errors;   // stderr
 };
 
+// A line on a terminal that says how far a long stage of a file is; cleared when the file is done.
+class ProgressLine {
+ public:
+  ProgressLine(bool shown, std::string file) : shown_(shown), file_(std::move(file)) {}
+  ~ProgressLine() {
+    if (drawn_) std::cerr << "\r\033[K" << std::flush;
+  }
+  Budget::Progress sink() {
+    if (!shown_) return {};
+    return [this](Stage stage, size_t done, size_t total) {
+      const std::lock_guard lock(mutex_);
+      std::cerr << "\r\033[K"
+                << fmt::format("brickcheck: {}: {} {}{} {}s", file_, stage.name, done,
+                               total ? fmt::format("/{}", total) : "", stage.unit)
+                << std::flush;
+      drawn_ = true;
+    };
+  }
+
+ private:
+  bool shown_, drawn_ = false;
+  std::string file_;
+  std::mutex mutex_;
+};
+
 FileReport check_file(const std::string& file, size_t files, const Settings& s,
                       parts::PartLibrary& library) {
   FileReport r;
   report::Audit audit;
   try {
-    audit = report::audit_file(file, s.options, library);
+    ProgressLine progress(s.progress, file);
+    report::AuditOptions options = s.options;
+    options.progress = progress.sink();
+    audit = report::audit_file(file, options, library);
   } catch (const InputError& e) {
     audit.file = file;
     audit.verdict = report::Verdict::Unreadable;
@@ -324,12 +355,14 @@ int main(int argc, char** argv) {
     }
   }
 
-  Settings settings{options, json, quiet, heatmap, instructions, ldraw_dir, main_model};
+  const int jobs_used = int(std::min(size_t(jobs), files.size()));
+  // On a terminal only, and for one file at a time: lines of files checked at once would mix.
+  const bool progress = !quiet && jobs_used == 1 && ::isatty(STDERR_FILENO);
+  Settings settings{options, json, quiet, progress, heatmap, instructions, ldraw_dir, main_model};
   parts::PartLibrary library(options.read.library_dirs, BrickCatalog::standard());
   auto check = [&](size_t i) { return check_file(files[i], files.size(), settings, library); };
   int worst = kStable;
   nlohmann::json all = nlohmann::json::array();
-  const int jobs_used = int(std::min(size_t(jobs), files.size()));
   const physics::OneBlasThreadEach blas_threads(jobs_used > 1);
   run_in_order<FileReport>(files.size(), jobs_used, check, [&](size_t, FileReport&& r) {
     if (rank(r.code) > rank(worst)) worst = r.code;

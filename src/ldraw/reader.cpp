@@ -526,6 +526,8 @@ class Flattener {
       budget_exceeded_ = true;
       return;
     }
+    if (options_.budget && model_.parts.size() % 1024 == 0)
+      options_.budget->check(kReading, model_.parts.size());
     PlacedPart p;
     p.part = normalize_part_name(ref.name);
     p.reference = ref.name;

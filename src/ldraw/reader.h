@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/budget.h"
 #include "ldraw/color_table.h"
 #include "ldraw/transform.h"
 
@@ -82,6 +83,7 @@ struct ReadOptions {
   std::optional<std::string> main_model;            // choose an MPD's main model by name
   std::size_t max_parts = 2'000'000;  // a model expanding to more is refused (exponential nesting)
   int max_depth = 64;
+  const Budget* budget = nullptr;  // reading stops with OutOfTime when it is spent
 };
 
 // Reads a .ldr/.mpd from disk. Never throws for bad content: problems become diagnostics.

@@ -314,7 +314,7 @@ class PartTurnLattices {
 }  // namespace
 
 AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
-                               const std::vector<size_t>& fixed_parts) {
+                               const std::vector<size_t>& fixed_parts, const Budget* budget) {
   AssemblyConversion out;
   EmbeddedParts embedded(model);
   // A model drawn turned as a whole (a car tilted 1° on its springs) is analysed in its own frame.
@@ -345,6 +345,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     return key;
   };
   for (size_t i = 0; i < model.parts.size(); ++i) {
+    if (budget && i % 256 == 0) budget->check(kPartKnowledge, i, model.parts.size());
     const ldraw::PlacedPart& p = model.parts[i];
     if (auto [at, fresh] = first_at.try_emplace(place_key(p), i); !fresh) {
       const ldraw::PlacedPart& first = model.parts[at->second];

@@ -31,8 +31,10 @@ struct AssemblyConversion {
 };
 
 // `fixed_parts`: indices into Model::parts the user names as fixed (--ground-part).
+// `budget`: stops with OutOfTime when spent.
 AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
-                               const std::vector<size_t>& fixed_parts = {});
+                               const std::vector<size_t>& fixed_parts = {},
+                               const Budget* budget = nullptr);
 
 // A rotation within `tolerance` of an orthonormal one, made exactly so; nullopt when it is scaled
 // or sheared beyond that.

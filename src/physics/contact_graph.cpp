@@ -244,10 +244,15 @@ Vec3 body_centre(const Brick& brick) {
   return to_model(brick, sum);
 }
 
-ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assumed_joints) {
+ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assumed_joints,
+                                 const Budget* budget) {
   ContactGraph g;
   g.ground = ground;
   const int n = int(a.bricks.size());
+  // Each pass over the parts counts them again: the count says where in a pass it stopped.
+  auto check_time = [&](int i) {
+    if (budget && i % 256 == 0) budget->check(kContactGraph, size_t(i), size_t(n));
+  };
   g.contacts_of.resize(size_t(n));
   g.fixed.assign(size_t(n), 0);
 
@@ -258,6 +263,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
   std::vector<double> brick_bottom;  // each brick's lowest point in the model (lattice frame)
   brick_bottom.reserve(size_t(n));
   for (const Brick& b : a.bricks) {
+    check_time(int(shapes.size()));
     shapes.push_back(world_shape(b));
     receptacle_count += shapes.back().receptacles.size() + shapes.back().bores.size();
     any_turned = any_turned || b.frame;
@@ -358,7 +364,8 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
   };
 
   // Studs in receptacles, along any axis.
-  for (int l = 0; l < n; ++l)
+  for (int l = 0; l < n; ++l) {
+    check_time(l);
     for (const Connector& s : shapes[size_t(l)].studs)
       for (int e = receptacles.find(s.at, opposite(s.direction)); e >= 0; e = receptacles[e].next) {
         const int u = receptacles[e].brick;
@@ -367,6 +374,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
         meeting(l, u, s.direction, s.at[size_t(axis_of(s.direction))])
             .receptacles.push_back(receptacles[e].at);
       }
+  }
 
   // Studs in receptacles of another lattice, both upright (README "What it analyses", turned
   // lattices): a stud in a receptacle is a connection however the two parts are turned about it
@@ -475,6 +483,7 @@ ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assu
   for (int id = 0; id < int(box_owner.size()); ++id) {
     const Box& bi = box(id);
     const int i = box_owner[size_t(id)].first;
+    if (id == 0 || box_owner[size_t(id - 1)].first != i) check_time(i);
     near.clear();
     index.near(bi, kTouch, [&](int other) {
       if (other > id && box_owner[size_t(other)].first != i) near.push_back(other);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/assembly.h"
+#include "core/budget.h"
 
 namespace lego::physics {
 
@@ -107,9 +108,10 @@ struct ContactGraph {
   std::vector<int> shaft_joints;
 
   // Without `assumed_joints`, carried parts and parts of two lattices tie nothing together:
-  // what a verdict is without those assumptions (brickcheck --strict).
-  static ContactGraph build(const Assembly& assembly, GroundMode ground,
-                            bool assumed_joints = true);
+  // what a verdict is without those assumptions (brickcheck --strict). `budget`: stops with
+  // OutOfTime when spent.
+  static ContactGraph build(const Assembly& assembly, GroundMode ground, bool assumed_joints = true,
+                            const Budget* budget = nullptr);
 };
 
 // The knob rim radius R (LDU).

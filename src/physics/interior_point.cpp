@@ -239,6 +239,7 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
       Vec x, y, zl, zu;
     } best{x, y, zl, zu};
     for (int it = 0; it < options.max_iterations; ++it) {
+      if (options.budget) options.budget->check(kSolve, size_t(it), size_t(options.max_iterations));
       result.iterations = it;
       Vec rp = b - times(A, x);
       const Vec qx = q.cwiseProduct(x);

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "core/budget.h"
+
 namespace lego::physics {
 
 struct IpmProblem {
@@ -61,6 +63,8 @@ struct IpmOptions {
   // What the duality gap is measured against, given the primal objective: 1 + |objective| when
   // empty. A caller that needs less of the objective than its own relative accuracy says so here.
   std::function<double(double objective)> gap_scale;
+  // Checked at every iteration: stops with OutOfTime when spent.
+  const Budget* budget = nullptr;
 };
 
 IpmResult solve_interior_point(const IpmProblem& problem, const IpmOptions& options = {});

@@ -164,6 +164,8 @@ LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
   // Support forces are free in the model. Bounding them lets the barrier converge in tens of
   // iterations instead of hundreds (the simplex is slower with them bounded, so it keeps them
   // free); a bound the solution touches is raised and the LP solved again.
+  IpmOptions within_budget = ipm;
+  within_budget.budget = o.budget;
   auto attempt = [&](LpMethod method, double first_bound) {
     LpSolution s;
     for (double bound = first_bound;; bound = bound < 1e12 ? bound * kWiden : kInfinity) {
@@ -174,9 +176,11 @@ LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
         stats->nonzeros = int(lp.index.size());
       }
       s = method == LpMethod::InteriorPoint
-              ? solve_interior(lp, ipm)
-              : solve_lp(lp, method, o.presolve, o.scaling, o.max_seconds);
+              ? solve_interior(lp, within_budget)
+              : solve_lp(lp, method, o.presolve, o.scaling, solve_seconds(o, o.max_seconds));
       if (stats) stats->iterations += s.iterations;
+      // Clp stops at the budget's end as at its own limit: the run stops here, saying so.
+      if (o.budget) o.budget->check(kSolve, size_t(s.iterations));
       if (s.outcome != LpOutcome::Optimal || std::isinf(bound) || !touches_box(lp, s, bound))
         return s;
     }

@@ -131,7 +131,9 @@ std::vector<std::pair<int, double>> turning_joints(const Assembly& a, const Stab
       negated.emplace_back(sys.row_index[size_t(k)], -sys.value[size_t(k)]);
     lp.add_column(0, kInfinity, 1, negated);
   }
-  const LpSolution s = solve_lp(lp, LpMethod::DualSimplex, true, true, o.max_seconds);
+  const LpSolution s =
+      solve_lp(lp, LpMethod::DualSimplex, true, true, solve_seconds(o, o.max_seconds));
+  if (o.budget) o.budget->check(kSolve, size_t(s.iterations));
   if (s.outcome != LpOutcome::Optimal) return {};
   std::map<int, double> by_contact;
   for (size_t t = 0; t < sys.turning_columns.size(); ++t) {
@@ -174,7 +176,8 @@ void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, Stabi
   std::optional<std::vector<int>> unbalanced;
   bool diagnosed = false;
   const auto explained = [&] {
-    if (!diagnosed) unbalanced = unbalanced_bodies(sys, o, seconds_left(start, o.max_seconds));
+    if (!diagnosed)
+      unbalanced = unbalanced_bodies(sys, o, solve_seconds(o, seconds_left(start, o.max_seconds)));
     diagnosed = true;
     return unbalanced && !unbalanced->empty();
   };
@@ -269,12 +272,13 @@ void solve_max_min(const EquilibriumSystem& sys, const StabilityOptions& o, Stab
   // The reference form, kept for cross-checking: its t column is dense and its supports are
   // free, which our interior point method does not take; Clp solves it (dual simplex by default).
   const LpMethod method = o.method == LpMethod::InteriorPoint ? LpMethod::DualSimplex : o.method;
-  LpSolution s = solve_lp(lp, method, o.presolve, o.scaling, o.max_seconds);
+  LpSolution s = solve_lp(lp, method, o.presolve, o.scaling, solve_seconds(o, o.max_seconds));
   r.stats.iterations = s.iterations;
   if (s.outcome == LpOutcome::Infeasible)
     return set_no_equilibrium(
         sys,
-        unbalanced_bodies(sys, o, seconds_left(start, o.max_seconds)).value_or(std::vector<int>{}),
+        unbalanced_bodies(sys, o, solve_seconds(o, seconds_left(start, o.max_seconds)))
+            .value_or(std::vector<int>{}),
         r);
   if (s.outcome != LpOutcome::Optimal) return set_failure(r, s);
   r.status = StabilityStatus::Solved;
@@ -397,7 +401,7 @@ bool decided(StabilityStatus status) {
 StabilityResult analyze_contacts(const Assembly& a, const StabilityOptions& o) {
   StabilityResult r;
   auto start = std::chrono::steady_clock::now();
-  r.graph = ContactGraph::build(a, o.ground, o.assumed_joints);
+  r.graph = ContactGraph::build(a, o.ground, o.assumed_joints, o.budget);
   r.connectivity = analyze_connectivity(int(a.bricks.size()), r.graph);
   // On the table under it: level at its lowest point unless what stands rests tilted on its
   // lowest points (physics/table.h). Given a ground (a build step's, the finished model's), as
@@ -408,7 +412,7 @@ StabilityResult analyze_contacts(const Assembly& a, const StabilityOptions& o) {
       Assembly tilted = a;
       tilted.ground_height = table.height;
       tilted.ground_slope = table.slope;
-      r.graph = ContactGraph::build(tilted, o.ground, o.assumed_joints);
+      r.graph = ContactGraph::build(tilted, o.ground, o.assumed_joints, o.budget);
       r.connectivity = analyze_connectivity(int(a.bricks.size()), r.graph);
     }
     // Held by the baseplate's knobs, it cannot tip however its weight lies.

@@ -1,4 +1,5 @@
 #pragma once
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,9 @@ struct StabilityOptions {
   // friction force) while solving; raised and solved again when the solution touches it.
   double support_bound = 1e3;
   double max_seconds = 3600;
+  // The run's budget (brickcheck's --max-seconds for a file), which every stage checks: the
+  // contact graph, the LP's rows and its solve stop with OutOfTime when it is spent.
+  const Budget* budget = nullptr;
   // The force model's choices; the default is the model (force_model.h).
   Formulation formulation = {};
   // Carried parts and parts of two lattices that touch tie what they touch rigidly; false: they
@@ -53,6 +57,11 @@ struct StabilityOptions {
   // as large as the first, so a caller that analyses again (report/audit.cpp) asks once, last.
   bool diagnose_turning = true;
 };
+
+// The seconds a solve may take: `seconds`, within what is left of the options' budget.
+inline double solve_seconds(const StabilityOptions& o, double seconds) {
+  return o.budget ? std::min(seconds, o.budget->seconds_left()) : seconds;
+}
 
 // A pair of bricks whose friction points bind at the optimum, with its share of the duals.
 struct WeakContact {

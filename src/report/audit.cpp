@@ -164,11 +164,11 @@ void carry_bricks(Audit& audit, const std::vector<char>& carry, const std::strin
 
 // README "What it analyses", turned lattices: a part on a turned frame is analysed there where it
 // snaps to another part of that frame; alone on its lattice it is carried, as any part at an angle.
-void carry_lone_turned(Audit& audit, physics::GroundMode ground) {
+void carry_lone_turned(Audit& audit, const physics::StabilityOptions& o) {
   const Assembly& a = audit.conversion.assembly;
   if (std::none_of(a.bricks.begin(), a.bricks.end(), [](const Brick& b) { return b.frame; }))
     return;
-  const auto graph = physics::ContactGraph::build(a, ground);
+  const auto graph = physics::ContactGraph::build(a, o.ground, true, o.budget);
   std::vector<char> alone(a.bricks.size(), 0);
   for (size_t i = 0; i < a.bricks.size(); ++i) {
     if (!a.bricks[i].frame) continue;
@@ -187,8 +187,9 @@ struct Floating {
   physics::ContactGraph graph;
   std::vector<char> bricks;
 };
-Floating floating_bricks(const Assembly& a, physics::GroundMode ground) {
-  Floating out{physics::ContactGraph::build(a, ground), std::vector<char>(a.bricks.size(), 0)};
+Floating floating_bricks(const Assembly& a, const physics::StabilityOptions& o) {
+  Floating out{physics::ContactGraph::build(a, o.ground, true, o.budget),
+               std::vector<char>(a.bricks.size(), 0)};
   for (int b : physics::analyze_connectivity(int(a.bricks.size()), out.graph).floating)
     out.bricks[size_t(b)] = 1;
   return out;
@@ -204,7 +205,7 @@ Floating floating_bricks(const Assembly& a, physics::GroundMode ground) {
 // above its plates (the bait shop's roof) a part still sits on the studs' upper half, drawn below
 // it would cut into the part under it. Returns whether any did.
 bool nudge_onto_the_lattice(Audit& audit, const std::vector<char>& floating,
-                            physics::GroundMode ground) {
+                            const physics::StabilityOptions& o) {
   Assembly& a = audit.conversion.assembly;
   constexpr double kHalfStudHeight = 2.0;
   // The lattice: the residue (hundredths of an LDU) most parts share, across modulo half a stud,
@@ -241,7 +242,7 @@ bool nudge_onto_the_lattice(Audit& audit, const std::vector<char>& floating,
     for (int k = 0; k < 3; ++k) b.pose->origin[size_t(k)] += shift[size_t(k)];
   }
   if (moved.empty()) return false;
-  const std::vector<char> still = floating_bricks(a, ground).bricks;
+  const std::vector<char> still = floating_bricks(a, o).bricks;
   bool any = false;
   for (const auto& [i, drawn] : moved) {
     Brick& b = a.bricks[size_t(i)];
@@ -298,12 +299,12 @@ bool carry_bars_in_no_clip(Audit& audit, const physics::ContactGraph& graph) {
 // among them that touches its other half, standing, is what holds the rest: it turns on that
 // half, so it is carried as PHYSICS.md carries hinges, a joint between what it touches, and what
 // hangs on it stands through it (the tower crane's arm on its turntable).
-void carry_unconnected(Audit& audit, physics::GroundMode ground) {
+void carry_unconnected(Audit& audit, const physics::StabilityOptions& o) {
   const Assembly& a = audit.conversion.assembly;
-  Floating now = floating_bricks(a, ground);
-  if (carry_bars_in_no_clip(audit, now.graph)) now = floating_bricks(a, ground);
+  Floating now = floating_bricks(a, o);
+  if (carry_bars_in_no_clip(audit, now.graph)) now = floating_bricks(a, o);
   if (std::find(now.bricks.begin(), now.bricks.end(), 1) == now.bricks.end()) return;
-  if (nudge_onto_the_lattice(audit, now.bricks, ground)) now = floating_bricks(a, ground);
+  if (nudge_onto_the_lattice(audit, now.bricks, o)) now = floating_bricks(a, o);
   // Technic parts held by nothing but their pins, axles and holes, where those meet nothing that
   // stands, are carried first: carried, they still join what they touch, and what hangs on them
   // may stand through them (a mast of connectors and axles whose holes are not all found).
@@ -317,7 +318,7 @@ void carry_unconnected(Audit& audit, physics::GroundMode ground) {
   if (technic) {
     carry_bricks(audit, shafts_only,
                  "its pins, axles, holes, bars and clips meet nothing that stands");
-    now = floating_bricks(a, ground);
+    now = floating_bricks(a, o);
   }
   const physics::ContactGraph& graph = now.graph;
   std::vector<char>& floating = now.bricks;
@@ -338,7 +339,7 @@ void carry_unconnected(Audit& audit, physics::GroundMode ground) {
   for (const auto& [x, y] : graph.overlaps) turns_on(x, y), turns_on(y, x);
   if (any) {
     carry_bricks(audit, pivots, "a hinge or turntable half: it turns on what holds it");
-    floating = floating_bricks(a, ground).bricks;
+    floating = floating_bricks(a, o).bricks;
   }
   carry_bricks(audit, floating, "its studs and receptacles meet nothing that stands");
 }
@@ -561,8 +562,9 @@ void audit_steps(Audit& audit, const AuditOptions& options) {
   std::mutex latest_mutex;
   auto latest = std::make_shared<const physics::StepForces>();
   int latest_step = 0;
-  const auto start = std::chrono::steady_clock::now();
-  auto in_time = [&] { return seconds_since(start) < options.stability.max_seconds; };
+  // The steps' budget (audit_file's): a step it runs out in is left unchecked.
+  const Budget* budget = options.stability.budget;
+  auto in_time = [&] { return !budget || !budget->spent(); };
   auto work = [&] {
     for (int k; in_time() && (k = next++) < last;) {
       std::shared_ptr<const physics::StepForces> from;
@@ -571,7 +573,11 @@ void audit_steps(Audit& audit, const AuditOptions& options) {
         from = latest;
       }
       physics::StepForces forces;
-      analysed[size_t(k)] = audit_step(audit, k + 1, options, from.get(), &forces);
+      try {
+        analysed[size_t(k)] = audit_step(audit, k + 1, options, from.get(), &forces);
+      } catch (const OutOfTime&) {
+        return;
+      }
       done[size_t(k)] = 1;
       if (!forces.empty()) {
         const std::lock_guard lock(latest_mutex);
@@ -596,7 +602,11 @@ void audit_steps(Audit& audit, const AuditOptions& options) {
           (weakest < 0 || analysed[size_t(k)].cm_gf < analysed[size_t(weakest)].cm_gf))
         weakest = k;
     if (weakest < 0 || !analysed[size_t(weakest)].certified) break;
-    analysed[size_t(weakest)] = audit_step(audit, weakest + 1, options, nullptr, nullptr);
+    try {
+      analysed[size_t(weakest)] = audit_step(audit, weakest + 1, options, nullptr, nullptr);
+    } catch (const OutOfTime&) {
+      break;  // the certificate stands
+    }
   }
   for (int step = 1; step <= last; ++step) {
     if (!done[size_t(step - 1)]) {
@@ -706,33 +716,34 @@ int turned_lattice_bricks(const Assembly& assembly) {
                            [](const Brick& b) { return b.frame.has_value(); }));
 }
 
-Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
-                 parts::PartLibrary& library) {
-  Audit audit;
-  audit.file = path.string();
+namespace {
+
+// The audit of audit_file, within `options`' budget: it throws OutOfTime when that is spent.
+void audit_within(Audit& audit, const AuditOptions& options, parts::PartLibrary& library) {
   auto start = std::chrono::steady_clock::now();
-  audit.model = ldraw::read_file(path, options.read);
+  audit.model = ldraw::read_file(audit.file, options.read);
   audit.parse_seconds = seconds_since(start);
   for (const auto& d : audit.model.diagnostics)
     if (d.severity == ldraw::Severity::Error) {
       audit.fatal = d.text();
-      return audit;
+      return;
     }
   if (audit.model.parts.empty()) {
     audit.fatal = fmt::format("{}: error: no part in the model", audit.file);
-    return audit;
+    return;
   }
   start = std::chrono::steady_clock::now();
   audit.conversion = parts::to_assembly(audit.model, library,
-                                        fixed_parts(audit.model, options.ground_parts, audit.file));
+                                        fixed_parts(audit.model, options.ground_parts, audit.file),
+                                        options.stability.budget);
   lower_ground_under_unknown_parts(audit);
-  carry_lone_turned(audit, options.stability.ground);
-  carry_unconnected(audit, options.stability.ground);
+  carry_lone_turned(audit, options.stability);
+  carry_unconnected(audit, options.stability);
   audit.parts_seconds = seconds_since(start);
   if (audit.conversion.assembly.bricks.empty()) {
     audit.verdict = Verdict::NothingToAnalyse;
     audit.assumptions = assumptions_of(audit);
-    return audit;
+    return;
   }
   audit.load_notes = apply_loads(audit, options.loads);
   // The report's times are the run's: an analysis that named parts to carry often costs the most
@@ -750,8 +761,32 @@ Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
   audit.stability.turning =
       physics::turning_joints(audit.conversion.assembly, audit.stability, stability);
   audit.verdict = verdict_of(audit.stability, options.min_cm_gf);
-  if (options.steps) audit_steps(audit, options);
-  judge_assumptions(audit, options);
+}
+
+}  // namespace
+
+Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
+                 parts::PartLibrary& library) {
+  Audit audit;
+  audit.file = path.string();
+  // --max-seconds bounds every stage of the file's audit; its build steps get as long again.
+  const Budget budget(options.stability.max_seconds, options.progress);
+  AuditOptions within = options;
+  within.read.budget = &budget;
+  within.stability.budget = &budget;
+  std::optional<Budget> steps;
+  try {
+    audit_within(audit, within, library);
+    if (!audit.fatal.empty() || audit.verdict == Verdict::NothingToAnalyse) return audit;
+    if (options.steps) {
+      within.stability.budget = &steps.emplace(options.stability.max_seconds, options.progress);
+      audit_steps(audit, within);
+    }
+    judge_assumptions(audit, within);
+  } catch (const OutOfTime& e) {
+    audit.verdict = Verdict::Undecided;
+    audit.out_of_time = e.what();
+  }
   return audit;
 }
 

@@ -50,6 +50,8 @@ struct AuditOptions {
   // A stable verdict that rests on an assumption that can change it is not enough
   // (Verdict::StableByAssumption); the joints are checked with a second analysis without them.
   bool strict = false;
+  // Told how far a stage is, for a person watching (Budget); from any thread.
+  Budget::Progress progress;
 };
 
 struct StepAudit {
@@ -93,6 +95,9 @@ struct Audit {
   Verdict verdict = Verdict::Unreadable;
   Assumptions assumptions;  // what the verdict rests on
   std::string fatal;        // why the file is unreadable
+  // Where --max-seconds ran out (OutOfTime's words), the verdict then Undecided: nothing else
+  // of the audit is complete.
+  std::string out_of_time;
   double parse_seconds = 0, parts_seconds = 0;
   // 2 when a first analysis named parts resting where they cannot stay and they were carried:
   // the stats' times are then those of both.

@@ -53,6 +53,11 @@ json render_json(const Audit& a, const AuditOptions& options) {
     j["error"] = a.fatal;
     return j;
   }
+  if (!a.out_of_time.empty()) {  // nothing else is complete
+    j["status"] = "out of time";
+    j["out_of_time"] = a.out_of_time;
+    return j;
+  }
   j["title"] = a.model.title;
   j["main_model"] = a.model.main_block;
   j["parts"] = a.model.parts.size();

@@ -581,27 +581,34 @@ TEST(Brickcheck, NumbersMustBeFinite) {
   EXPECT_EQ(run_tool("brickcheck", {"--min-cm", "-5", "--quiet", tower.string()}).exit_code, 0);
 }
 
-// The steps share --max-seconds: a model of many steps ends undecided (exit 4) at the budget,
-// saying from which step on nothing was checked, instead of running for hours.
+// The steps share --max-seconds, as long again as the model's analysis: a model of many steps
+// ends undecided (exit 4) at the budget, saying from which step on nothing was checked, instead
+// of running for hours.
 TEST(Brickcheck, StepsShareTheTimeBudget) {
-  auto path = scratch("many-steps.ldr");
-  {
+  // A wall laid in bond, `per_step` bricks a step.
+  auto wall = [](const std::string& name, int courses, int per_step) {
+    auto path = scratch(name);
     std::ofstream out(path);
-    // A wall laid in bond, a course per step: 960 bricks, so that even steps a certificate
-    // shows standing (a few milliseconds each) cannot all be checked in 0.05 s.
     out << "0 many steps\n";
-    for (int i = 0; i < 120; ++i) {
-      for (int k = 0; k < 8; ++k)
+    for (int i = 0; i < courses; ++i)
+      for (int k = 0; k < 8; ++k) {
         out << "1 4 " << 80 * k + 40 * (i % 2) << " " << -24 * i << " 0"
             << " 1 0 0 0 1 0 0 0 1 3001.dat\n";
-      out << "0 STEP\n";
-    }
-  }
-  json all = check_json({"--steps", path.string()}, 0);
+        if ((i * 8 + k + 1) % per_step == 0) out << "0 STEP\n";
+      }
+    return path;
+  };
+  json all = check_json({"--steps", wall("course-steps.ldr", 120, 8).string()}, 0);
   EXPECT_TRUE(all["unchecked_from_step"].is_null());
   EXPECT_EQ(all["steps"].size(), 120u);
-  json cut = check_json({"--steps", "--max-seconds", "0.05", path.string()}, 4);
-  ASSERT_FALSE(cut["unchecked_from_step"].is_null());
+  // 2,000 steps of a brick each: all of them take twenty times as long as the model's analysis,
+  // which is given twice its time and a little.
+  const auto many = wall("brick-steps.ldr", 250, 1).string();
+  const auto start = std::chrono::steady_clock::now();
+  check_json({many}, 0);
+  const std::string budget = fmt::format("{:.2f}", 2 * seconds_since(start) + 0.2);
+  json cut = check_json({"--steps", "--max-seconds", budget, many}, 4);
+  ASSERT_FALSE(cut["unchecked_from_step"].is_null()) << budget;
   EXPECT_EQ(cut["steps"].size(), size_t(cut["unchecked_from_step"].get<int>() - 1));
   EXPECT_EQ(cut["verdict"], "undecided");
 }
@@ -785,6 +792,30 @@ TEST(Brickcheck, FilesCheckedAtOnceReportInTheOrderGiven) {
     }
   }
   EXPECT_EQ(run_tool("brickcheck", {"-j", "0", wall.string()}).exit_code, 2);
+}
+
+// --max-seconds bounds every stage of a file, not only the solve: 40,000 2x8 bricks are read and
+// known in a fifth of a second here, and their contact graphs take seconds. The run stops in the
+// contact graph, exit 4, saying so, as text and as JSON.
+TEST(Brickcheck, MaxSecondsStopsTheContactGraph) {
+  const fs::path path = scratch("forty-thousand.ldr");
+  {
+    std::ofstream out(path);
+    out << "0 Two thousand towers of 2x8 bricks\n";
+    for (int t = 0; t < 2000; ++t)
+      for (int row = 0; row < 20; ++row)
+        out << "1 4 " << (t % 50) * 400 + (row % 2) * 40 << " " << -24 * row << " "
+            << (t / 50) * 400 << " 1 0 0 0 1 0 0 0 1 3007.dat\n";
+  }
+  const auto text = run_tool("brickcheck", {"--max-seconds", "1", path.string()});
+  EXPECT_EQ(text.exit_code, 4) << text.out << text.err;
+  EXPECT_NE(text.out.find("UNDECIDED: out of time (1 s)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("contact graph"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("(--max-seconds)"), std::string::npos) << text.out;
+  json j = check_json({"--max-seconds", "1", path.string()}, 4);
+  EXPECT_EQ(j["verdict"], "undecided");
+  EXPECT_EQ(j["status"], "out of time");
+  EXPECT_NE(j["out_of_time"].get<std::string>().find("contact graph"), std::string::npos) << j;
 }
 
 TEST(Brickcheck, FiftyThousandPartsInSeconds) {
