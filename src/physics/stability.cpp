@@ -11,6 +11,7 @@
 
 #include "core/stopwatch.h"
 #include "physics/clp_lp.h"
+#include "physics/equilibrium_blocks.h"
 #include "physics/scaled_lp.h"
 #include "physics/table.h"
 
@@ -122,7 +123,14 @@ std::vector<std::pair<int, double>> turning_joints(const Assembly& a, const Stab
     return {};
   Formulation held = o.formulation;
   held.turning_joints_hold = true;
-  const EquilibriumSystem sys = build_equilibrium(a, r.graph, r.connectivity, held);
+  const EquilibriumSystem whole = build_equilibrium(a, r.graph, r.connectivity, held);
+  // Only the structures with no equilibrium: a town's standing buildings are no part of it.
+  std::vector<int> bodies;
+  for (int brick : r.unbalanced)
+    if (whole.body_of[size_t(brick)] >= 0) bodies.push_back(whole.body_of[size_t(brick)]);
+  const EquilibriumBlock unbalanced =
+      bodies.empty() ? EquilibriumBlock{whole, {}, {}} : structures_holding(whole, bodies);
+  const EquilibriumSystem& sys = unbalanced.system;
   LpData lp = equilibrium_lp(sys, kInfinity, 1.0, kInfinity);
   for (int j : sys.turning_columns) {
     lp.col_lower[size_t(j)] = 0, lp.objective[size_t(j)] = 1;
@@ -164,7 +172,8 @@ void set_failure(StabilityResult& r, const LpSolution& s) {
   r.message = s.message;
 }
 
-void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, StabilityResult& r) {
+void solve_scaled(const EquilibriumSystem& sys, const ContactGraph& graph,
+                  const StabilityOptions& o, StabilityResult& r) {
   const auto start = std::chrono::steady_clock::now();
   auto at_cap = [&](const LpSolution& s, double cap) {
     return s.outcome == LpOutcome::Optimal && s.x[sys.columns()] >= cap * (1 - 1e-6);
@@ -243,7 +252,66 @@ void solve_scaled(const EquilibriumSystem& sys, const StabilityOptions& o, Stabi
   std::vector<double> duals(sys.friction_columns, 0.0);
   for (int j = 0; j < sys.friction_columns; ++j)
     if (s.x[j] > 1 - 1e-6) duals[j] = s.reduced_cost[j];
-  rank_weakest(sys, r.graph, duals, r);
+  rank_weakest(sys, graph, duals, r);
+}
+
+// The scaled LP, one per independent block of the system (equilibrium_blocks.h): C_M is the
+// least of the blocks', the weakest contacts and the duals are those of the block that has it,
+// and the forces are every block's own. A block with no equilibrium leaves the model none, its
+// bodies named with every other such block's; one the solver fails on fails the analysis.
+void solve_scaled_by_blocks(const EquilibriumSystem& sys, const ContactGraph& graph,
+                            const StabilityOptions& o, StabilityResult& r) {
+  const std::vector<EquilibriumBlock> blocks = independent_blocks(sys, o.block_bodies);
+  if (blocks.empty()) return solve_scaled(sys, graph, o, r);
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<StabilityResult> parts(blocks.size());
+  for (size_t k = 0; k < blocks.size(); ++k) {
+    StabilityOptions left = o;
+    left.max_seconds = seconds_left(start, o.max_seconds);
+    solve_scaled(blocks[k].system, graph, left, parts[k]);
+    const LpStats& s = parts[k].stats;
+    r.stats.rows += s.rows;
+    r.stats.columns += s.columns;
+    r.stats.nonzeros += s.nonzeros;
+    r.stats.iterations += s.iterations;
+    if (r.stats.solver.empty() || s.solver != r.stats.solver) r.stats.solver = s.solver;
+    if (!decided(parts[k].status) && parts[k].status != StabilityStatus::NoEquilibrium) break;
+  }
+  for (const StabilityResult& part : parts)
+    if (part.status == StabilityStatus::NoEquilibrium) {
+      if (r.status != StabilityStatus::NoEquilibrium) r.message = part.message;
+      r.status = StabilityStatus::NoEquilibrium;
+      r.unbalanced.insert(r.unbalanced.end(), part.unbalanced.begin(), part.unbalanced.end());
+    }
+  if (r.status == StabilityStatus::NoEquilibrium) {
+    std::sort(r.unbalanced.begin(), r.unbalanced.end());
+    return;
+  }
+  for (const StabilityResult& part : parts)
+    if (part.status != StabilityStatus::Solved) {
+      r.status =
+          part.status == StabilityStatus::Empty ? StabilityStatus::NumericalTrouble : part.status;
+      r.message = part.message;
+      return;
+    }
+  size_t weakest = 0;
+  for (size_t k = 1; k < parts.size(); ++k)
+    if (parts[k].cm < parts[weakest].cm) weakest = k;
+  r.status = StabilityStatus::Solved;
+  r.cm = parts[weakest].cm;
+  r.weakest = parts[weakest].weakest;
+  // Forces for every column, or none: a block that needs no friction has none of its own.
+  const bool all_forces = std::all_of(parts.begin(), parts.end(),
+                                      [](const StabilityResult& p) { return !p.forces.empty(); });
+  if (!all_forces) return;
+  r.forces.assign(size_t(sys.columns()), 0);
+  for (size_t k = 0; k < parts.size(); ++k)
+    for (size_t j = 0; j < blocks[k].columns.size(); ++j)
+      r.forces[size_t(blocks[k].columns[j])] = parts[k].forces[j];
+  r.row_duals.assign(size_t(sys.rows), 0);
+  const auto& duals = parts[weakest].row_duals;
+  for (size_t i = 0; i < blocks[weakest].rows.size() && i < duals.size(); ++i)
+    r.row_duals[size_t(blocks[weakest].rows[i])] = duals[i];
 }
 
 void solve_max_min(const EquilibriumSystem& sys, const StabilityOptions& o, StabilityResult& r) {
@@ -440,7 +508,7 @@ void solve_equilibrium(const Assembly& a, const EquilibriumSystem& sys, const St
   if (sys.rows == 0) return;
   auto start = std::chrono::steady_clock::now();
   if (o.form == LpForm::Scaled)
-    solve_scaled(sys, o, r);
+    solve_scaled_by_blocks(sys, r.graph, o, r);
   else
     solve_max_min(sys, o, r);
   r.stats.solve_seconds = seconds_since(start);

@@ -46,8 +46,12 @@ struct StabilityOptions {
   double support_bound = 1e3;
   double max_seconds = 3600;
   // The run's budget (brickcheck's --max-seconds for a file), which every stage checks: the
-  // contact graph, the LP's rows and its solve stop with OutOfTime when it is spent.
+  // contact graph and the solves stop with OutOfTime when it is spent.
   const Budget* budget = nullptr;
+  // The scaled LP's one scale column couples every row: structures that no force joins (a
+  // town's buildings) are solved apart, gathered into LPs of at least this many bodies
+  // (equilibrium_blocks.h). C_M is the same; only the time differs.
+  int block_bodies = 50;
   // The force model's choices; the default is the model (force_model.h).
   Formulation formulation = {};
   // Carried parts and parts of two lattices that touch tie what they touch rigidly; false: they

@@ -333,6 +333,62 @@ TEST(StabilityProperty, ScaledAndMaxMinFormsAgree) {
   EXPECT_GT(compared, 5);
 }
 
+// Structures that no force joins are solved apart (equilibrium_blocks.h): a row of random
+// stacks, 100 studs apart, gets the C_M, the status, the unbalanced parts and the weakest
+// contact of the one LP over all of them, whether each stack is its own LP or they are gathered.
+TEST(StabilityProperty, StructuresApartAreSolvedApartAlike) {
+  const auto& types = BrickCatalog::standard().types();
+  std::mt19937 rng(11);
+  int compared = 0, no_equilibrium = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    Assembly a;
+    const int stacks = 2 + int(rng() % 4);
+    for (int stack = 0; stack < stacks; ++stack)
+      for (int level = 0; level < 6; ++level) {
+        Brick b;
+        b.type = &types[rng() % 11];
+        b.rotated = rng() % 2;
+        b.min.y = kBrick * level;
+        b.min.x = 100 * stack;
+        if (level > 0) {
+          const Brick& below = a.bricks.back();
+          b.min.x = below.min.x - b.size_x() + 1 + int(rng() % (below.size_x() + b.size_x() - 1));
+          b.min.z = below.min.z - b.size_z() + 1 + int(rng() % (below.size_z() + b.size_z() - 1));
+        }
+        a.bricks.push_back(b);
+      }
+    // Now and then on a table, with a 2 x 4 on a 1 x 1 column by one corner knob, which tips:
+    // no equilibrium in one structure (BrickHeldByOneCornerKnob).
+    const bool table = trial % 5 == 4;
+    if (table) {
+      add(a, "3005", 100 * stacks, 0, 0);
+      add(a, "3005", 100 * stacks, kBrick, 0);
+      add(a, "3001", 100 * stacks, 2 * kBrick, 0);
+    }
+    const GroundMode ground = table ? GroundMode::Table : GroundMode::Baseplate;
+    const auto whole = analyze_stability(a, {.ground = ground, .block_bodies = 1'000'000});
+    for (int least : {1, 7}) {
+      const auto apart = analyze_stability(a, {.ground = ground, .block_bodies = least});
+      ASSERT_EQ(apart.status, whole.status) << trial;
+      EXPECT_EQ(apart.unbalanced, whole.unbalanced) << trial;
+      if (whole.status == StabilityStatus::NoEquilibrium) ++no_equilibrium;
+      if (whole.status != StabilityStatus::Solved) continue;
+      ++compared;
+      EXPECT_NEAR(apart.cm, whole.cm, 1e-6 * kT * kGravity) << trial;
+      ASSERT_EQ(apart.weakest.empty(), whole.weakest.empty()) << trial;
+      if (!whole.weakest.empty() && whole.weakest[0].share > 0.5) {
+        EXPECT_EQ(apart.weakest[0].contact, whole.weakest[0].contact) << trial;
+      }
+      // Every column's force, or none (a structure that needs no friction gives none).
+      if (!apart.forces.empty()) {
+        EXPECT_EQ(apart.forces.size(), whole.forces.size()) << trial;
+      }
+    }
+  }
+  EXPECT_GT(compared, 20);
+  EXPECT_GT(no_equilibrium, 0);
+}
+
 // Our interior point method converges by itself (no fallback to Clp) and agrees with Clp's
 // simplex on C_M and on the weakest contact.
 TEST(StabilityProperty, InteriorPointAgreesWithClpSimplex) {
