@@ -361,10 +361,11 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     const PartKnowledge* k = library.knowledge(p, embedded, why);
     if (!k) {
       const std::string ext = ascii_lower(std::filesystem::path(p.reference).extension().string());
-      if (ext == ".ldr" || ext == ".mpd" || ext == ".l3b")
+      const bool submodel = ext == ".ldr" || ext == ".mpd" || ext == ".l3b";
+      if (submodel)
         why = fmt::format("missing submodel '{}': in neither the file, its folder nor the library",
                           p.reference);
-      out.skipped.push_back({i, why});
+      out.skipped.push_back({i, why, false, submodel});
       continue;
     }
     const SourceRef source{p.file, p.line, p.step};

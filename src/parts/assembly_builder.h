@@ -18,6 +18,8 @@ struct PartNote {
   std::string reason;
   // A copy of another part in the same place: nothing of it is unknown, it is not there.
   bool copy = false;
+  // A submodel no file holds: where its origin lies says nothing of where its parts are.
+  bool missing_submodel = false;
 };
 
 struct AssemblyConversion {

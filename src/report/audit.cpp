@@ -408,7 +408,9 @@ void add_times(physics::LpStats& to, const physics::LpStats& from) {
 
 // A part left out has no body, but by LDraw's convention its origin is its top: one at or below
 // the lowest face of everything known reaches at least a plate lower, and the ground is taken
-// there, so that nothing is taken to stand on the ground when it stands on an unknown part.
+// there, so that nothing is taken to stand on the ground when it stands on an unknown part. A
+// missing submodel's origin is wherever its author put it (a tree's, a street lamp's at its
+// foot): it moves no ground, or a town whose one lamp file is missing would float whole.
 void lower_ground_under_unknown_parts(Audit& audit) {
   Assembly& a = audit.conversion.assembly;
   if (audit.conversion.skipped.empty() || a.bricks.empty()) return;
@@ -420,6 +422,7 @@ void lower_ground_under_unknown_parts(Audit& audit) {
     for (const Vec3& p : physics::world_outline(c)) lowest = std::min(lowest, p[1]);
   double ground = lowest;
   for (const auto& s : audit.conversion.skipped) {
+    if (s.copy || s.missing_submodel) continue;
     const double top = -audit.model.parts[s.part].transform.pos[1] - a.origin_ldu[1];
     if (top <= lowest + 0.5) ground = std::min(ground, top - kLduPerPlate);
   }

@@ -678,6 +678,24 @@ TEST(Brickcheck, BadInputGetsClearMessagesAndExitCodes) {
   EXPECT_NE(run.out.find("1 analysed as structure, 0 carried, 1 left out"), std::string::npos)
       << run.out;
   EXPECT_EQ(run_tool("brickcheck", {"--strict", missing.string()}).exit_code, 5);
+  // A missing submodel at the model's foot (a street lamp's origin is its foot) moves no ground;
+  // an unknown part there, whose origin is its top, does: what stands there may stand on it.
+  auto lamp = scratch("street.ldr");
+  fs::remove(lamp.parent_path() / "gone-lamp.ldr");
+  std::ofstream(lamp) << "0 m\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                         "1 16 100 0 0 1 0 0 0 1 0 0 0 1 gone-lamp.ldr\n";
+  run = run_tool("brickcheck", {lamp.string()});
+  EXPECT_EQ(run.exit_code, 0) << run.out;
+  EXPECT_NE(run.out.find("missing submodel 'gone-lamp.ldr'"), std::string::npos) << run.out;
+  auto base = scratch("unknown-base.ldr");
+  std::ofstream(base)
+      << "0 m\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n1 16 100 0 0 1 0 0 0 1 0 0 0 1 base.dat\n";
+  run = run_tool("brickcheck", {base.string()});
+  EXPECT_EQ(run.exit_code, 3) << run.out;  // the brick reaches no ground: nothing stands
+  EXPECT_NE(run.out.find("3001 Red at (0, -24, 0): its studs and receptacles meet nothing that "
+                         "stands"),
+            std::string::npos)
+      << run.out;
   run = run_tool("brickcheck", {malformed.string()});
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.out.find("malformed.ldr:3: error: malformed type-1 line"), std::string::npos)
