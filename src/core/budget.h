@@ -53,7 +53,8 @@ class Budget {
  public:
   // Called with the stage, how far it is and of how much (0: not known), from any thread.
   using Progress = std::function<void(Stage stage, size_t done, size_t total)>;
-  // How long a stage runs before the sink hears of it, and then how often.
+  // How long the run goes before the sink hears of it (a run that ends sooner shows nothing), and
+  // then how often.
   static constexpr double kQuietSeconds = 2, kShowEverySeconds = 0.25;
 
   Budget() = default;  // no limit, no progress
@@ -78,9 +79,6 @@ class Budget {
         last_shown_.compare_exchange_strong(last, now, std::memory_order_relaxed))
       progress_(stage, done, total);
   }
-
-  // Whether the sink was ever called (its last line may need clearing).
-  bool showed_progress() const { return last_shown_.load(std::memory_order_relaxed) > 0; }
 
  private:
   static double since(std::chrono::steady_clock::time_point t) {
