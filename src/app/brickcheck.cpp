@@ -192,15 +192,16 @@ FileReport check_file(const std::string& file, size_t files, const Settings& s,
     r.text = report::render_text(audit, s.quiet);
   if (audit.verdict == report::Verdict::Unreadable && s.json) r.errors += audit.fatal + "\n";
 
-  if (!s.instructions.empty() && audit.verdict != report::Verdict::Unreadable) {
+  // A file read and analysed to the end: one --max-seconds stopped has no forces to show.
+  const bool analysed = audit.verdict != report::Verdict::Unreadable && audit.out_of_time.empty();
+  if (!s.instructions.empty() && analysed) {
     try {
       write_instructions(audit, s.instructions, s.ldraw_dir, s.main_model, s.quiet || s.json);
     } catch (const InputError& e) {
       fail(e.what());
     }
   }
-  if (!s.heatmap.empty() && audit.verdict != report::Verdict::Unreadable &&
-      audit.verdict != report::Verdict::NothingToAnalyse) {
+  if (!s.heatmap.empty() && analysed && audit.verdict != report::Verdict::NothingToAnalyse) {
     const fs::path out = heatmap_path(s.heatmap, file, files > 1);
     try {
       // A file the model reads that the command line does not name (a submodel in its own

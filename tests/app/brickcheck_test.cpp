@@ -848,11 +848,15 @@ TEST(Brickcheck, MaxSecondsStopsTheContactGraph) {
         out << "1 4 " << (t % 50) * 400 + (row % 2) * 40 << " " << -24 * row << " "
             << (t / 50) * 400 << " 1 0 0 0 1 0 0 0 1 3007.dat\n";
   }
-  const auto text = run_tool("brickcheck", {"--max-seconds", "1", path.string()});
+  const fs::path heatmap = scratch("forty-thousand-heat.ldr");
+  fs::remove(heatmap);
+  const auto text =
+      run_tool("brickcheck", {"--max-seconds", "1", "--heatmap", heatmap.string(), path.string()});
   EXPECT_EQ(text.exit_code, 4) << text.out << text.err;
   EXPECT_NE(text.out.find("UNDECIDED: out of time (1 s)"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("contact graph"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("(--max-seconds)"), std::string::npos) << text.out;
+  EXPECT_FALSE(fs::exists(heatmap)) << "a heat map of an analysis that did not finish";
   json j = check_json({"--max-seconds", "1", path.string()}, 4);
   EXPECT_EQ(j["verdict"], "undecided");
   EXPECT_EQ(j["status"], "out of time");
