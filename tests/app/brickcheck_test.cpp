@@ -835,10 +835,11 @@ TEST(Brickcheck, FilesCheckedAtOnceReportInTheOrderGiven) {
   EXPECT_EQ(run_tool("brickcheck", {"-j", "0", wall.string()}).exit_code, 2);
 }
 
-// --max-seconds bounds every stage of a file, not only the solve: 40,000 2x8 bricks are read and
-// known in a fifth of a second here, and their contact graphs take seconds. The run stops in the
-// contact graph, exit 4, saying so, as text and as JSON.
-TEST(Brickcheck, MaxSecondsStopsTheContactGraph) {
+// --max-seconds bounds a file's whole run, not only its solve: 40,000 2x8 bricks take 15 s here
+// (2 s of parts, 2 s of contact graphs, 11 s of solve), and the run stops soon after its second,
+// exit 4, saying where it was, as text and as JSON. Which stage that is depends on the machine
+// (the parts, under the sanitizers); that each stage stops is tested where it is.
+TEST(Brickcheck, MaxSecondsStopsTheRunWhereverItIs) {
   const fs::path path = scratch("forty-thousand.ldr");
   {
     std::ofstream out(path);
@@ -850,17 +851,24 @@ TEST(Brickcheck, MaxSecondsStopsTheContactGraph) {
   }
   const fs::path heatmap = scratch("forty-thousand-heat.ldr");
   fs::remove(heatmap);
+  auto names_a_stage = [](const std::string& said) {
+    for (const char* stage : {"reading", "part knowledge", "contact graph", "solve"})
+      if (said.find(fmt::format("in the {}, at ", stage)) != std::string::npos) return true;
+    return false;
+  };
+  const auto start = std::chrono::steady_clock::now();
   const auto text =
       run_tool("brickcheck", {"--max-seconds", "1", "--heatmap", heatmap.string(), path.string()});
+  EXPECT_LT(seconds_since(start), 6) << "stopped long after its budget";
   EXPECT_EQ(text.exit_code, 4) << text.out << text.err;
-  EXPECT_NE(text.out.find("UNDECIDED: out of time (1 s)"), std::string::npos) << text.out;
-  EXPECT_NE(text.out.find("contact graph"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("UNDECIDED: out of time (1 s) in the "), std::string::npos) << text.out;
+  EXPECT_TRUE(names_a_stage(text.out)) << text.out;
   EXPECT_NE(text.out.find("(--max-seconds)"), std::string::npos) << text.out;
   EXPECT_FALSE(fs::exists(heatmap)) << "a heat map of an analysis that did not finish";
   json j = check_json({"--max-seconds", "1", path.string()}, 4);
   EXPECT_EQ(j["verdict"], "undecided");
   EXPECT_EQ(j["status"], "out of time");
-  EXPECT_NE(j["out_of_time"].get<std::string>().find("contact graph"), std::string::npos) << j;
+  EXPECT_TRUE(names_a_stage(j["out_of_time"].get<std::string>())) << j;
 }
 
 TEST(Brickcheck, FiftyThousandPartsInSeconds) {

@@ -226,6 +226,20 @@ TEST(Reader, ExponentialNestingStopsAtTheBudget) {
   EXPECT_NE(find_diag(m, "more than 1000 parts"), nullptr);
 }
 
+// --max-seconds: reading stops where it is when the run's budget is spent, saying it was reading.
+TEST(Reader, ReadingStopsWhenTheBudgetIsSpent) {
+  const Budget spent(0);
+  ReadOptions options;
+  options.budget = &spent;
+  try {
+    read_text("1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n", "late.ldr", options);
+    ADD_FAILURE() << "read past a spent budget";
+  } catch (const OutOfTime& e) {
+    EXPECT_EQ(e.stage(), "reading");
+  }
+  EXPECT_EQ(read_text("1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n", "late.ldr").parts.size(), 1u);
+}
+
 TEST(Reader, BinaryDirectoryAndMissingFiles) {
   Model binary = read_text(std::string("0 x\n\0\1\2", 7), "bin.ldr");
   ASSERT_TRUE(binary.has_errors());

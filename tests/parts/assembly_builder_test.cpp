@@ -226,5 +226,19 @@ TEST(ToAssembly, OrthonormalizedAndQuarterTurns) {
   EXPECT_EQ(*q, (std::array<double, 9>{0, 0, 1, 0, -1, 0, 1, 0, 0}));
 }
 
+// --max-seconds: learning what the parts are stops when the run's budget is spent, saying so.
+TEST(ToAssembly, PartKnowledgeStopsWhenTheBudgetIsSpent) {
+  const ldraw::Model m = read_text(upright_column(0, 0), "late.ldr");
+  PartLibrary library({}, BrickCatalog::standard());
+  const Budget spent(0);
+  try {
+    to_assembly(m, library, {}, &spent);
+    ADD_FAILURE() << "went on past a spent budget";
+  } catch (const OutOfTime& e) {
+    EXPECT_EQ(e.stage(), "part knowledge");
+  }
+  EXPECT_EQ(to_assembly(m, library).assembly.bricks.size(), 5u);
+}
+
 }  // namespace
 }  // namespace lego::parts

@@ -528,6 +528,39 @@ TEST(InteriorPoint, AnAcceptedBestPointNamesTheIterationLimit) {
       << early.message;
 }
 
+// --max-seconds: the contact graph and each iteration of the solve stop when the run's budget is
+// spent, saying which stage they were in.
+TEST(Stability, EveryStageStopsWhenTheBudgetIsSpent) {
+  const Assembly a = test::figure7_bridge(4, 'a');
+  const Budget spent(0);
+  auto stage_stopped = [](auto&& run) -> std::string {
+    try {
+      run();
+    } catch (const OutOfTime& e) {
+      return e.stage();
+    }
+    return "none";
+  };
+  EXPECT_EQ(stage_stopped([&] { ContactGraph::build(a, GroundMode::Baseplate, true, &spent); }),
+            "contact graph");
+  EXPECT_EQ(stage_stopped([&] { analyze_stability(a, {.budget = &spent}); }), "contact graph");
+  IpmProblem lp;  // min −x  s.t.  x + s = 1, x, s ≥ 0
+  lp.rows = 1;
+  lp.start = {0, 1, 2};
+  lp.index = {0, 0};
+  lp.value = {1, 1};
+  lp.c = {-1, 0};
+  lp.b = {1};
+  lp.lower = {0, 0};
+  lp.upper.assign(2, std::numeric_limits<double>::infinity());
+  IpmOptions options;
+  options.budget = &spent;
+  EXPECT_EQ(stage_stopped([&] { solve_interior_point(lp, options); }), "solve");
+  options.budget = nullptr;
+  EXPECT_TRUE(solve_interior_point(lp, options).converged);
+  EXPECT_EQ(analyze_stability(a).status, StabilityStatus::Solved);
+}
+
 TEST(ContactGraph, FrictionPointsFollowTheCavityShape) {
   Assembly a;
   add(a, "3004", 0, 0, 0);        // 1x2
