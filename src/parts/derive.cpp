@@ -224,7 +224,7 @@ std::vector<Shaft> joined_shafts(std::vector<Shaft> drawn) {
 // A hinge or turntable half turns about a line its round surfaces share with its other half: its
 // knuckles are its cylinder primitives, on every line they cover 2 LDU or more of (a hinge
 // plate's finger is rounded on the line of its pin and on another; which one is the pin's, only
-// the other half tells: contact_graph.cpp joins two halves on a line they share). A locking
+// the other half tells: physics/graph_joints.cpp joins two halves on a line they share). A locking
 // hinge clicks in place: its knuckles hold.
 std::vector<Shaft> knuckles(const PartGeometry& g) {
   const bool locking = g.title.find("Locking") != std::string::npos;

@@ -19,12 +19,16 @@ enum class GroundMode {
   Table,      // the ground only pushes: normal and support forces, no friction
 };
 
-// A rectangle in a contact's plane, in the plane's two other axes (u = axis + 1, v = axis + 2,
-// modulo 3), LDU; u0 < u1, v0 < v1.
+// A rectangle in a contact's plane, in the plane's two other axes (u = kInPlane[axis][0],
+// v = kInPlane[axis][1]), LDU; u0 < u1, v0 < v1.
 struct Rect {
   double u0 = 0, v0 = 0, u1 = 0, v1 = 0;
   double area() const { return (u1 - u0) * (v1 - v0); }
 };
+
+// The in-plane axes of a contact along `axis`, in the order its columns have always had: across
+// a horizontal plane x then z, across a vertical one y first.
+inline constexpr int kInPlane[3][2] = {{1, 2}, {0, 2}, {1, 0}};
 
 // Where a stud of the lower part touches a receptacle of the upper one (PHYSICS.md), and the
 // friction it can hold, as a share of T (physics/knob_grip.h).

@@ -9,7 +9,6 @@
 namespace lego::physics {
 namespace {
 
-constexpr int kInPlane[3][2] = {{1, 2}, {0, 2}, {1, 0}};  // as in contact_graph.cpp
 // Coefficients are forces (1) and lever arms in studs (1e-2 and up): below this is roundoff.
 constexpr double kNegligible = 1e-9;
 
