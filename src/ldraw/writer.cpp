@@ -3,13 +3,17 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <mutex>
+#include <optional>
 #include <system_error>
 
 #include <pthread.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <csignal>
 
@@ -168,30 +172,47 @@ std::string to_mpd(const std::vector<const Assembly*>& pieces, const WriteOption
 
 namespace {
 
-std::filesystem::path temporary_for(const std::filesystem::path& path) {
-  auto tmp = path;
-  tmp += ".tmp-legolization";
-  return tmp;
+// The process's umask, read once before any thread starts (reading it means setting it): the
+// mode a new output gets, as if the program had created it with open().
+const mode_t kUmask = [] {
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  return mask;
+}();
+
+// A file being written beside its destination, to be renamed over it.
+struct Temporary {
+  std::filesystem::path path;
+  int fd = -1;
+};
+
+// A new temporary beside `path`, made by mkstemp: a name no other run shares, created with
+// O_EXCL, so that a link planted under a predictable name is never written through.
+Temporary create_temporary(const std::filesystem::path& path) {
+  std::string name = path.string() + ".tmp-legolization-XXXXXX";
+  const int fd = ::mkstemp(name.data());
+  if (fd < 0) throw InputError(path.string(), 0, "cannot write here");
+  return {name, fd};
 }
 
-void write_temporary(const std::filesystem::path& path, const std::string& text) {
-  const auto tmp = temporary_for(path);
-  std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(path.string(), 0, "cannot write here");
-  out << text;
-  out.flush();
-  if (!out) {
-    out.close();
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw InputError(path.string(), 0, "writing failed");
-  }
-  out.close();
-  // The file it replaces keeps its mode (a 640 model stays 640, not the umask's 644).
+// Writes `text` into the temporary for `path` and closes it, with the mode of the file it
+// replaces (a 640 model stays 640), else the one a new file gets.
+void write_temporary(Temporary& t, const std::filesystem::path& path, const std::string& text) {
   std::error_code ec;
-  if (const auto old = std::filesystem::status(path, ec);
-      !ec && std::filesystem::is_regular_file(old))
-    std::filesystem::permissions(tmp, old.permissions(), ec);
+  const auto old = std::filesystem::status(path, ec);
+  const mode_t mode = !ec && std::filesystem::is_regular_file(old)
+                          ? mode_t(old.permissions()) & 07777
+                          : 0666 & ~kUmask;
+  bool ok = ::fchmod(t.fd, mode) == 0;
+  for (size_t done = 0; ok && done < text.size();) {
+    const ssize_t n = ::write(t.fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    ok = n > 0;
+    if (ok) done += size_t(n);
+  }
+  ok = ::close(t.fd) == 0 && ok;
+  t.fd = -1;
+  if (!ok) throw InputError(path.string(), 0, "writing failed");
 }
 
 }  // namespace
@@ -227,13 +248,17 @@ namespace {
 
 // The temporaries of the outputs being written, for a signal handler to remove: a run stopped by
 // SIGINT, SIGTERM or SIGHUP before its outputs are in place leaves the old files whole and no
-// temporary behind. (Plain arrays: the handler may only call async-signal-safe functions.)
+// temporary behind. Threads writing at once (brickcheck -j) each hold slots; the handler is
+// installed while any slot is. (Plain arrays: the handler may only call async-signal-safe
+// functions. A slot's path is written before it is marked used, and it is marked free before it
+// is written again.)
 constexpr int kMaxPending = 64;
 char g_pending[kMaxPending][4096];
-volatile std::sig_atomic_t g_pending_count = 0;
+volatile std::sig_atomic_t g_pending_used[kMaxPending] = {};
 
 extern "C" void remove_pending_and_stop(int signal_number) {
-  for (int i = 0; i < g_pending_count; ++i) ::unlink(g_pending[i]);
+  for (int i = 0; i < kMaxPending; ++i)
+    if (g_pending_used[i]) ::unlink(g_pending[i]);
   ::signal(signal_number, SIG_DFL);
   ::raise(signal_number);
 }
@@ -244,15 +269,19 @@ constexpr int kStopSignals[] = {SIGINT, SIGTERM, SIGHUP};
 class PendingTemporaries {
  public:
   explicit PendingTemporaries(const std::vector<std::filesystem::path>& temporaries) {
-    int n = 0;
+    const std::lock_guard lock(mutex_);
     for (const auto& t : temporaries) {
       const std::string text = t.string();
-      if (n == kMaxPending || text.size() >= sizeof g_pending[0]) continue;
-      std::copy(text.begin(), text.end(), g_pending[n]);
-      g_pending[n][text.size()] = '\0';
-      ++n;
+      if (text.size() >= sizeof g_pending[0]) continue;
+      int slot = 0;
+      while (slot < kMaxPending && g_pending_used[slot]) ++slot;
+      if (slot == kMaxPending) break;
+      std::copy(text.begin(), text.end(), g_pending[slot]);
+      g_pending[slot][text.size()] = '\0';
+      g_pending_used[slot] = 1;
+      slots_.push_back(slot);
     }
-    g_pending_count = n;
+    if (holders_++ > 0) return;
     struct sigaction action {};
     action.sa_handler = remove_pending_and_stop;
     sigemptyset(&action.sa_mask);
@@ -260,7 +289,9 @@ class PendingTemporaries {
       ::sigaction(kStopSignals[i], &action, &previous_[i]);
   }
   ~PendingTemporaries() {
-    g_pending_count = 0;
+    const std::lock_guard lock(mutex_);
+    for (int slot : slots_) g_pending_used[slot] = 0;
+    if (--holders_ > 0) return;
     for (size_t i = 0; i < std::size(kStopSignals); ++i)
       ::sigaction(kStopSignals[i], &previous_[i], nullptr);
   }
@@ -268,7 +299,11 @@ class PendingTemporaries {
   PendingTemporaries& operator=(const PendingTemporaries&) = delete;
 
  private:
-  struct sigaction previous_[std::size(kStopSignals)]{};
+  std::vector<int> slots_;
+  // Shared by the threads writing: how many hold slots, and the handlers before the first.
+  static inline std::mutex mutex_;
+  static inline int holders_ = 0;
+  static inline struct sigaction previous_[std::size(kStopSignals)]{};
 };
 
 // Stop signals wait while alive: the renames that put the outputs in place all happen, or none.
@@ -298,8 +333,8 @@ void write_files_atomically(
     const Destination d = destination_of(path);
     (d.direct ? direct : files).emplace_back(d.path, text);
   }
-  // Two texts for one file would share one temporary, and the second rename would fail after
-  // the first landed: refused before anything is written.
+  // Two texts for one file: one would silently replace the other. Refused before anything is
+  // written.
   for (size_t i = 0; i < given.size(); ++i)
     for (size_t k = 0; k < i; ++k) {
       auto resolved = [&](const std::filesystem::path& p) {
@@ -308,14 +343,31 @@ void write_files_atomically(
       if (resolved(given[i].first) == resolved(given[k].first))
         throw InputError(given[i].first.string(), 0, "two outputs name this one file");
     }
-  std::vector<std::filesystem::path> temporaries;
-  for (const auto& f : files) temporaries.push_back(temporary_for(f.first));
-  const PendingTemporaries pending(temporaries);
+  // Created and listed for the stop handler with stop signals waiting: a stop removes every
+  // temporary made.
+  std::vector<Temporary> temporaries;
+  std::optional<PendingTemporaries> pending;
   auto remove_temporaries = [&] {
-    for (const auto& t : temporaries) std::filesystem::remove(t, ec);
+    for (Temporary& t : temporaries) {
+      if (t.fd >= 0) ::close(t.fd);
+      std::filesystem::remove(t.path, ec);
+    }
   };
+  {
+    const SignalsWait wait;
+    try {
+      for (const auto& f : files) temporaries.push_back(create_temporary(f.first));
+    } catch (const InputError&) {
+      remove_temporaries();
+      throw;
+    }
+    std::vector<std::filesystem::path> names;
+    for (const Temporary& t : temporaries) names.push_back(t.path);
+    pending.emplace(names);
+  }
   try {
-    for (const auto& [path, text] : files) write_temporary(path, text);
+    for (size_t i = 0; i < files.size(); ++i)
+      write_temporary(temporaries[i], files[i].first, files[i].second);
     // What cannot be renamed into place (a device, a FIFO) is written before anything moves, so
     // that a failure or a stop there still leaves every old output whole.
     for (const auto& [path, text] : direct) {
@@ -330,9 +382,9 @@ void write_files_atomically(
   }
   const SignalsWait wait;
   for (size_t i = 0; i < files.size(); ++i) {
-    std::filesystem::rename(temporaries[i], files[i].first, ec);
+    std::filesystem::rename(temporaries[i].path, files[i].first, ec);
     if (ec) {
-      for (size_t k = i; k < files.size(); ++k) std::filesystem::remove(temporaries[k], ec);
+      for (size_t k = i; k < files.size(); ++k) std::filesystem::remove(temporaries[k].path, ec);
       throw InputError(files[i].first.string(), 0, "cannot move the written file into place");
     }
   }

@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <random>
+#include <thread>
 
 #include "ldraw/reader.h"
 #include "ldraw/writer.h"
@@ -68,8 +72,79 @@ TEST(RoundTrip, WriterHeaderAndAtomicWrite) {
   EXPECT_EQ(m.name, "lego_rt.ldr");
   EXPECT_EQ(m.author, "Me");
   EXPECT_EQ(m.ldraw_org, "Unofficial_Model");
-  EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp-legolization"));
+  for (const auto& e : std::filesystem::directory_iterator(path.parent_path()))
+    EXPECT_FALSE(e.path().filename().string().starts_with("lego_rt.ldr.tmp")) << e.path();
   EXPECT_THROW(write_model("/nonexistent-dir/x.ldr", a, {}), std::runtime_error);
+}
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("lego_writer_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::string contents(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// An output's temporary is a new file with a name no one can guess (mkstemp): a link planted
+// under the name it once had ("OUT.tmp-legolization") is not written through, and the file it
+// points to stays as it was.
+TEST(Writer, APlantedLinkIsNeverWrittenThrough) {
+  const auto dir = fresh_dir("link");
+  const auto victim = dir / "precious.txt", out = dir / "out.ldr";
+  std::ofstream(victim) << "precious\n";
+  std::filesystem::create_symlink(victim, dir / "out.ldr.tmp-legolization");
+  write_file_atomically(out, "0 new\n");
+  EXPECT_EQ(contents(victim), "precious\n");
+  EXPECT_EQ(contents(out), "0 new\n");
+  EXPECT_FALSE(std::filesystem::is_symlink(out));
+  size_t entries = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) ++entries, (void)e;
+  EXPECT_EQ(entries, 3u) << "a temporary left behind";
+}
+
+// Two runs writing one output at once each put a whole file in place: they once shared one
+// temporary, truncated each other's text and failed to rename.
+TEST(Writer, RunsWritingOneFileAtOnceNeverMix) {
+  const auto dir = fresh_dir("race");
+  const auto out = dir / "out.ldr";
+  const std::string a(300000, 'a'), b(200000, 'b');
+  std::atomic<int> failures{0};
+  auto write_often = [&](const std::string& text) {
+    for (int k = 0; k < 100; ++k) try {
+        write_file_atomically(out, text);
+      } catch (const std::exception&) {
+        ++failures;
+      }
+  };
+  std::thread first(write_often, a), second(write_often, b);
+  first.join();
+  second.join();
+  EXPECT_EQ(failures, 0);
+  const std::string written = contents(out);
+  EXPECT_TRUE(written == a || written == b) << written.size() << " bytes";
+  size_t entries = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) ++entries, (void)e;
+  EXPECT_EQ(entries, 1u) << "a temporary left behind";
+}
+
+// A new output gets the mode any new file gets here (the umask's); one it replaces keeps its own.
+TEST(Writer, OutputsKeepTheModeTheyHadOrGetTheUsualOne) {
+  namespace fs = std::filesystem;
+  const auto dir = fresh_dir("mode");
+  std::ofstream(dir / "usual.txt") << "x";
+  write_file_atomically(dir / "new.ldr", "0 new\n");
+  EXPECT_EQ(fs::status(dir / "new.ldr").permissions(), fs::status(dir / "usual.txt").permissions());
+  std::ofstream(dir / "kept.ldr") << "0 old\n";
+  fs::permissions(dir / "kept.ldr",
+                  fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+  write_file_atomically(dir / "kept.ldr", "0 new\n");
+  EXPECT_EQ(fs::status(dir / "kept.ldr").permissions(),
+            fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+  EXPECT_EQ(contents(dir / "kept.ldr"), "0 new\n");
 }
 
 }  // namespace
