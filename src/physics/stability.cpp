@@ -13,6 +13,7 @@
 #include "physics/clp_lp.h"
 #include "physics/equilibrium_blocks.h"
 #include "physics/scaled_lp.h"
+#include "physics/solved_blocks.h"
 #include "physics/table.h"
 
 namespace lego::physics {
@@ -266,9 +267,21 @@ void solve_scaled_by_blocks(const EquilibriumSystem& sys, const ContactGraph& gr
   const auto start = std::chrono::steady_clock::now();
   std::vector<StabilityResult> parts(blocks.size());
   for (size_t k = 0; k < blocks.size(); ++k) {
-    StabilityOptions left = o;
-    left.max_seconds = seconds_left(start, o.max_seconds);
-    solve_scaled(blocks[k].system, graph, left, parts[k]);
+    const EquilibriumSystem& block = blocks[k].system;
+    SolvedBlocks::Key key{};
+    std::optional<StabilityResult> before;
+    if (o.solved_blocks) {
+      key = SolvedBlocks::key_of(block);
+      before = o.solved_blocks->find(key, block, graph);
+    }
+    if (before) {
+      parts[k] = std::move(*before);
+    } else {
+      StabilityOptions left = o;
+      left.max_seconds = seconds_left(start, o.max_seconds);
+      solve_scaled(block, graph, left, parts[k]);
+      if (o.solved_blocks) o.solved_blocks->store(key, block, parts[k]);
+    }
     const LpStats& s = parts[k].stats;
     r.stats.rows += s.rows;
     r.stats.columns += s.columns;

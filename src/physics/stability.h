@@ -10,6 +10,8 @@
 
 namespace lego::physics {
 
+class SolvedBlocks;
+
 enum class StabilityStatus {
   Solved,            // C_M is a number (stable when > 0)
   Empty,             // no bricks (or only the ground's own)
@@ -52,6 +54,9 @@ struct StabilityOptions {
   // town's buildings) are solved apart, gathered into LPs of at least this many bodies
   // (equilibrium_blocks.h). C_M is the same; only the time differs.
   int block_bodies = 50;
+  // Blocks solved by earlier analyses with these options, reused where their equations are the
+  // same and kept for later ones (solved_blocks.h); none: every block is solved.
+  SolvedBlocks* solved_blocks = nullptr;
   // The force model's choices; the default is the model (force_model.h).
   Formulation formulation = {};
   // Carried parts and parts of two lattices that touch tie what they touch rigidly; false: they

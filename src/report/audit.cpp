@@ -18,6 +18,7 @@
 #include "ldraw/writer.h"
 #include "physics/force_model.h"
 #include "physics/interior_point.h"
+#include "physics/solved_blocks.h"
 #include "physics/step_stability.h"
 #include "physics/world_shape.h"
 
@@ -753,6 +754,9 @@ void audit_within(Audit& audit, const AuditOptions& options, parts::PartLibrary&
   // (its diagnosis: the carriage house 3.2 s of 4.6).
   physics::StabilityOptions stability = with_capacity(options.stability, options.brick_capacity);
   stability.diagnose_turning = false;  // once, of the last analysis
+  // An analysis after parts are carried solves again only the structures that changed.
+  physics::SolvedBlocks solved;
+  stability.solved_blocks = &solved;
   auto analyse = [&] {
     const physics::LpStats before = audit.stability.stats;
     audit.stability = physics::analyze_stability(audit.conversion.assembly, stability);

@@ -7,6 +7,7 @@
 #include "../../tools/bench/shapes.h"
 #include "physics/builders.h"
 #include "physics/scaled_lp.h"
+#include "physics/solved_blocks.h"
 #include "physics/stability.h"
 
 namespace lego::physics {
@@ -333,30 +334,37 @@ TEST(StabilityProperty, ScaledAndMaxMinFormsAgree) {
   EXPECT_GT(compared, 5);
 }
 
+// `stacks` stacks of `levels` random bricks, 100 studs apart, each brick on the one below by at
+// least one stud.
+Assembly random_stacks(std::mt19937& rng, int stacks, int levels) {
+  const auto& types = BrickCatalog::standard().types();
+  Assembly a;
+  for (int stack = 0; stack < stacks; ++stack)
+    for (int level = 0; level < levels; ++level) {
+      Brick b;
+      b.type = &types[rng() % 11];
+      b.rotated = rng() % 2;
+      b.min.y = kBrick * level;
+      b.min.x = 100 * stack;
+      if (level > 0) {
+        const Brick& below = a.bricks.back();
+        b.min.x = below.min.x - b.size_x() + 1 + int(rng() % (below.size_x() + b.size_x() - 1));
+        b.min.z = below.min.z - b.size_z() + 1 + int(rng() % (below.size_z() + b.size_z() - 1));
+      }
+      a.bricks.push_back(b);
+    }
+  return a;
+}
+
 // Structures that no force joins are solved apart (equilibrium_blocks.h): a row of random
 // stacks, 100 studs apart, gets the C_M, the status, the unbalanced parts and the weakest
 // contact of the one LP over all of them, whether each stack is its own LP or they are gathered.
 TEST(StabilityProperty, StructuresApartAreSolvedApartAlike) {
-  const auto& types = BrickCatalog::standard().types();
   std::mt19937 rng(11);
   int compared = 0, no_equilibrium = 0;
   for (int trial = 0; trial < 40; ++trial) {
-    Assembly a;
     const int stacks = 2 + int(rng() % 4);
-    for (int stack = 0; stack < stacks; ++stack)
-      for (int level = 0; level < 6; ++level) {
-        Brick b;
-        b.type = &types[rng() % 11];
-        b.rotated = rng() % 2;
-        b.min.y = kBrick * level;
-        b.min.x = 100 * stack;
-        if (level > 0) {
-          const Brick& below = a.bricks.back();
-          b.min.x = below.min.x - b.size_x() + 1 + int(rng() % (below.size_x() + b.size_x() - 1));
-          b.min.z = below.min.z - b.size_z() + 1 + int(rng() % (below.size_z() + b.size_z() - 1));
-        }
-        a.bricks.push_back(b);
-      }
+    Assembly a = random_stacks(rng, stacks, 6);
     // Now and then on a table, with a 2 x 4 on a 1 x 1 column by one corner knob, which tips:
     // no equilibrium in one structure (BrickHeldByOneCornerKnob).
     const bool table = trial % 5 == 4;
@@ -386,6 +394,59 @@ TEST(StabilityProperty, StructuresApartAreSolvedApartAlike) {
     }
   }
   EXPECT_GT(compared, 20);
+  EXPECT_GT(no_equilibrium, 0);
+}
+
+// An analysis that reuses the blocks an earlier one solved (SolvedBlocks: the audit analyses a
+// model again after carrying a few parts) answers as a fresh one does: the same status, C_M,
+// forces, weakest contacts and unbalanced bricks, named by their new indices after a part is
+// put before them and one structure changed.
+TEST(StabilityProperty, ReusedBlocksAnswerAsAFreshAnalysis) {
+  std::mt19937 rng(23);
+  int reused = 0, blocks = 0, no_equilibrium = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    const int stacks = 3 + int(rng() % 3);
+    Assembly a = random_stacks(rng, stacks, 5);
+    const bool table = trial % 3 == 2;  // with a structure that tips (BrickHeldByOneCornerKnob)
+    if (table) {
+      add(a, "3005", 100 * stacks, 0, 0);
+      add(a, "3005", 100 * stacks, kBrick, 0);
+      add(a, "3001", 100 * stacks, 2 * kBrick, 0);
+    }
+    const StabilityOptions plain{.ground = table ? GroundMode::Table : GroundMode::Baseplate,
+                                 .block_bodies = 1};
+    SolvedBlocks solved;
+    StabilityOptions cached = plain;
+    cached.solved_blocks = &solved;
+    analyze_stability(a, cached);
+    // A part before every other, and the first stack one brick lower.
+    Assembly changed;
+    add(changed, "3005", -100, 0, 0);
+    changed.bricks.insert(changed.bricks.end(), a.bricks.begin(), a.bricks.end());
+    changed.bricks.erase(changed.bricks.begin() + 5);
+    const int before = solved.reused();
+    const auto again = analyze_stability(changed, cached);
+    const auto fresh = analyze_stability(changed, plain);
+    reused += solved.reused() - before;
+    blocks += stacks + (table ? 1 : 0) + 1;
+    ASSERT_EQ(again.status, fresh.status) << trial;
+    EXPECT_EQ(again.unbalanced, fresh.unbalanced) << trial;
+    no_equilibrium += fresh.status == StabilityStatus::NoEquilibrium;
+    if (fresh.status != StabilityStatus::Solved) continue;
+    EXPECT_NEAR(again.cm, fresh.cm, 1e-9 * kT * kGravity) << trial;
+    ASSERT_EQ(again.weakest.size(), fresh.weakest.size()) << trial;
+    for (size_t k = 0; k < fresh.weakest.size(); ++k) {
+      EXPECT_EQ(again.weakest[k].contact, fresh.weakest[k].contact) << trial;
+      EXPECT_EQ(again.weakest[k].lower, fresh.weakest[k].lower) << trial;
+      EXPECT_EQ(again.weakest[k].upper, fresh.weakest[k].upper) << trial;
+      EXPECT_NEAR(again.weakest[k].share, fresh.weakest[k].share, 1e-9) << trial;
+    }
+    ASSERT_EQ(again.forces.size(), fresh.forces.size()) << trial;
+    for (size_t j = 0; j < fresh.forces.size(); ++j)
+      EXPECT_NEAR(again.forces[j], fresh.forces[j], 1e-9 * kT * kGravity) << trial << " " << j;
+  }
+  // Every stack but the changed one is found again.
+  EXPECT_GT(reused, blocks / 2) << blocks;
   EXPECT_GT(no_equilibrium, 0);
 }
 
