@@ -1,6 +1,7 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -22,6 +23,22 @@ inline std::filesystem::path scratch(const std::string& prefix, const std::strin
   std::filesystem::create_directories(dir);
   return dir / name;
 }
+
+// An LDraw library for the tests that need only official parts: $LDRAWDIR (the LDraw tools'
+// convention) when it holds one, else ../shared/ldraw-library. Tests of the shared models use
+// the shared library, whose parts their numbers were measured with.
+inline std::filesystem::path ldraw_library() {
+  const char* env = std::getenv("LDRAWDIR");
+  if (env && *env && std::filesystem::is_directory(std::filesystem::path(env) / "parts"))
+    return env;
+  return shared_dir() / "ldraw-library";
+}
+
+#define SKIP_WITHOUT_LIBRARY()                                                             \
+  do {                                                                                     \
+    if (!std::filesystem::is_directory(::lego::test::ldraw_library() / "parts"))           \
+      GTEST_SKIP() << "no LDraw library: set LDRAWDIR, or put ../shared beside the project"; \
+  } while (0)
 
 #define SKIP_WITHOUT_SHARED()                                                        \
   do {                                                                               \

@@ -1,6 +1,6 @@
 // brickcheck on what people build: small models written here with the official parts (from
-// ../shared/ldraw-library; skipped without it), each pinning what a builder would say, and the
-// properties every verdict must have.
+// $LDRAWDIR or ../shared/ldraw-library; skipped without either), each pinning what a builder
+// would say, and the properties every verdict must have.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -18,7 +18,7 @@ using nlohmann::json;
 using test::run_tool;
 
 std::string library() {
-  return (test::shared_dir() / "ldraw-library").string();
+  return test::ldraw_library().string();
 }
 
 // The weakest contact is between parts `a` and `b`.
@@ -46,7 +46,7 @@ json check(const fs::path& path, int expected_exit, std::vector<std::string> ext
 // A 45° slope on a brick: its cells take the brick's studs; the brick's weight and its own stand
 // on the ground.
 TEST(BrickcheckReal, SlopeOnABrick) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   json j = check(model("slope.ldr",
                        "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n"
                        "1 4 10 -48 0 0 0 1 0 1 0 -1 0 0 3040b.dat\n"),
@@ -60,7 +60,7 @@ TEST(BrickcheckReal, SlopeOnABrick) {
 // A jumper plate's stud sits half a stud off the lattice: a 2x2 plate takes it in its tube, a
 // 1x2 plate cannot (its pin is in the way) and only lies on the jumper.
 TEST(BrickcheckReal, AJumperStudInATube) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   const std::string base =
       "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n"
       "1 1 0 -32 0 1 0 0 0 1 0 0 0 1 3794a.dat\n";
@@ -92,7 +92,7 @@ TEST(BrickcheckReal, AJumperStudInATube) {
 
 // Round plates stacked on a brick: each round plate's cell takes the stud under it.
 TEST(BrickcheckReal, A6141Stack) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   std::string lines = "1 15 0 -24 0 1 0 0 0 1 0 0 0 1 3005.dat\n";
   for (int k = 0; k < 4; ++k)
     lines += "1 4 0 " + std::to_string(-32 - 8 * k) + " 0 1 0 0 0 1 0 0 0 1 6141.dat\n";
@@ -105,7 +105,7 @@ TEST(BrickcheckReal, A6141Stack) {
 // SNOT: a plate on the headlight brick's side stud is held by that stud, sideways. Its weight
 // pulls on the stud's friction, so C_M is below T, and the bottleneck is that connection.
 TEST(BrickcheckReal, APlateOnA4070SideStud) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   auto path = model("snot.ldr",
                     "1 15 0 -24 0 1 0 0 0 1 0 0 0 1 4070.dat\n"
                     "1 4 0 -14 -14 1 0 0 0 0 -1 0 1 0 3024.dat\n");
@@ -130,7 +130,7 @@ TEST(BrickcheckReal, APlateOnA4070SideStud) {
 // A brick resting on a tile is held by its weight alone: it reaches the ground through the tile
 // (a face contact from below) without a snap, and pulls nothing.
 TEST(BrickcheckReal, ABrickRestingOnATile) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   json j = check(model("tile.ldr",
                        "1 7 0 -8 0 1 0 0 0 1 0 0 0 1 3068b.dat\n"
                        "1 4 0 -32 0 1 0 0 0 1 0 0 0 1 3003.dat\n"),
@@ -155,7 +155,7 @@ TEST(BrickcheckReal, ABrickRestingOnATile) {
 // holds it alone; a friction pin holds a little (kFrictionPinMoment, 5 gf·stud), so the arm
 // stands on one, its grip in C_M.
 TEST(BrickcheckReal, TechnicPinsTurnAxlesHold) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   const std::string stack =
       "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n"
       "1 4 0 -48 0 1 0 0 0 1 0 0 0 1 3700.dat\n"
@@ -207,7 +207,7 @@ void expect_analysed_on_one_turning_joint(const json& j, int parts, const char* 
 // off its line by half a stud, turns it, and the report names the joint and the moment it
 // would have to hold.
 TEST(BrickcheckReal, AHingeTurnsUnderASideLoad) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   const std::string hinge =
       "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n"
       "1 15 0 -48 0 -1 0 0 0 1 0 0 0 -1 3937.dat\n"
@@ -240,7 +240,7 @@ TEST(BrickcheckReal, AHingeTurnsUnderASideLoad) {
 // 20 g on its studs it does not, and the clip is the weakest contact. A bar that no clip holds
 // (a lightsaber blade standing on a brick) is carried, saying so.
 TEST(BrickcheckReal, APlateHangsByItsHandleInAClip) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   const auto hang = model("hang.ldr",
                           "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
                           "1 15 10 -8 -10 1 0 0 0 1 0 0 0 1 6019.dat\n"
@@ -272,7 +272,7 @@ TEST(BrickcheckReal, APlateHangsByItsHandleInAClip) {
 
 // A lightsaber blade (30374, a bar) in a vertical clip (4085b): analysed, joined to the clip.
 TEST(BrickcheckReal, ABarStandsInAVerticalClip) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   json j = check(model("clip.ldr",
                        "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
                        "1 15 10 -8 -10 1 0 0 0 1 0 0 0 1 4085b.dat\n"
@@ -288,7 +288,7 @@ TEST(BrickcheckReal, ABarStandsInAVerticalClip) {
 // as PHYSICS.md's check of a 1 x 8 brick on three knobs of the plate on the top. (The corpus's
 // tower crane: its 96-part arm.)
 TEST(BrickcheckReal, AnArmOnATurntable) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   // The top, a 4x4 plate on it and a 1 x 8 brick on the plate, over `under`.
   auto arm_over = [](const std::string& name, const std::string& under, int exit) {
     return check(model(name, under + "1 7 0 -24 0 1 0 0 0 1 0 0 0 1 3404.dat\n"
@@ -326,7 +326,7 @@ TEST(BrickcheckReal, ACarOnTyresOnATable) {
 // A building on a baseplate: the baseplate is the ground; a brick cantilevered from a column on
 // it pulls on the column's studs, not on the baseplate's.
 TEST(BrickcheckReal, ABuildingOnA3811) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   json j = check(model("base.ldr",
                        "1 2 0 0 0 1 0 0 0 1 0 0 0 1 3811.dat\n"
                        "1 4 10 -24 10 1 0 0 0 1 0 0 0 1 3005.dat\n"
@@ -350,7 +350,7 @@ TEST(BrickcheckReal, ABuildingOnA3811) {
 
 // Replacing a carried part by an analysed equivalent never lowers coverage.
 TEST(BrickcheckRealProperty, AnalysingACarriedPartNeverLowersCoverage) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   const std::string base =
       "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
       "1 4 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n";

@@ -32,7 +32,7 @@ PartKnowledge derived(const fs::path& library, const std::string& part) {
 }
 
 fs::path shared_library() {
-  return test::shared_dir() / "ldraw-library";
+  return test::ldraw_library();
 }
 
 std::vector<std::array<double, 4>> sorted(const std::vector<Connector>& connectors) {
@@ -46,7 +46,7 @@ std::vector<std::array<double, 4>> sorted(const std::vector<Connector>& connecto
 // The library's own files for the catalog's bricks and plates derive to the shapes the catalog
 // gives them: the derivation reads cavities, tubes and pins as the physics expects.
 TEST(DerivePart, TheBrickFamilyDerivesToTheCatalogShapes) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   for (const BrickType& t : BrickCatalog::standard().types()) {
     if (!fs::exists(shared_library() / "parts" / (t.part + ".dat"))) continue;
     SCOPED_TRACE(t.part);
@@ -64,7 +64,7 @@ TEST(DerivePart, TheBrickFamilyDerivesToTheCatalogShapes) {
 
 // The parts the issue names, as a builder knows them.
 TEST(DerivePart, SlopesRoundPlatesSnotAndBaseplates) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   // A 45° slope 2 x 1: one stud on its top row, two cells underneath.
   PartKnowledge slope = derived(shared_library(), "3040b");
   EXPECT_EQ(slope.type.shape.studs.size(), 1u);
@@ -109,7 +109,7 @@ TEST(DerivePart, SlopesRoundPlatesSnotAndBaseplates) {
 }
 
 TEST(DerivePart, PartsWhoseConnectionsAreNotModelledAreCarried) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   // A hinge half with cells is held by its studs; the half without turns on its knuckles; one
   // with neither (a control stick's base: its ball is no cylinder) is carried.
   EXPECT_TRUE(derived(shared_library(), "3937").carried_reason.empty());
@@ -128,7 +128,7 @@ TEST(DerivePart, PartsWhoseConnectionsAreNotModelledAreCarried) {
 // a hole's two end rings (peghole.dat) one hole through the brick, an axle (axle.dat) as long as
 // it is scaled. Parts held by nothing else are analysed through them.
 TEST(DerivePart, TechnicHolesPinsAndAxles) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   auto shafts = [](const char* part) { return derived(shared_library(), part).type.shape.shafts; };
   const auto pin = shafts("3673");
   ASSERT_EQ(pin.size(), 1u);
@@ -158,7 +158,7 @@ TEST(DerivePart, TechnicHolesPinsAndAxles) {
 // A hinge or turntable half's knuckles: its cylinder primitives on the line they cover longest,
 // a finger at a time. Other parts' cylinders are none.
 TEST(DerivePart, HingeAndTurntableKnuckles) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   auto shafts = [](const char* part) { return derived(shared_library(), part).type.shape.shafts; };
   const auto top = shafts("3938");  // two fingers on the line along x, 10 LDU below its top
   ASSERT_EQ(top.size(), 2u);
@@ -184,7 +184,7 @@ TEST(DerivePart, HingeAndTurntableKnuckles) {
 // Bars are round surfaces 4 LDU in radius all the way round their line; clips are what clip
 // primitives draw at that radius. A hinge's round surfaces are its knuckles only.
 TEST(DerivePart, BarsAndClips) {
-  SKIP_WITHOUT_SHARED();
+  SKIP_WITHOUT_LIBRARY();
   auto shafts = [](const char* part) { return derived(shared_library(), part).type.shape.shafts; };
   const auto blade = shafts("30374");  // Bar 4L: along its y, 80 LDU
   ASSERT_EQ(blade.size(), 1u);
