@@ -14,7 +14,7 @@ void ContactGraphBuilder::touch_faces() {
   for (int id = 0; id < int(box_owner_.size()); ++id) {
     const Box& bi = box(id);
     const int i = owner(id);
-    if (id == 0 || box_owner_[size_t(id - 1)].first != i) check_time(i);
+    if (id == 0 || owner(id - 1) != i) check_time(i);
     near.clear();
     index_.near(bi, kTouch, [&](int other) {
       if (other > id && owner(other) != i) near.push_back(other);
