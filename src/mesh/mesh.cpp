@@ -48,7 +48,7 @@ std::pair<UpAxis, std::string> declared_up(const aiScene* scene,
     const UpAxis up{int(axis), sign < 0 ? -1 : 1};
     return {up, fmt::format("{} (the file's GlobalSettings)", to_string(up))};
   }
-  if (ext == ".dae") return {{1, 1}, "+y (the file's up_axis, applied by Assimp)"};
+  if (ext == ".dae" || ext == ".zae") return {{1, 1}, "+y (the file's up_axis, applied by Assimp)"};
   for (const char* z_up : {".3mf", ".amf", ".blend", ".3ds", ".max"})
     if (ext == z_up) return {{2, 1}, fmt::format("+z (the {} format's up)", ext.substr(1))};
   for (const char* y_up : {".gltf", ".glb", ".x3d", ".wrl", ".x3dv"})
@@ -56,12 +56,30 @@ std::pair<UpAxis, std::string> declared_up(const aiScene* scene,
   return {{1, 1}, "+y (the file declares no up axis; --up names another)"};
 }
 
-Rgb material_color(const aiMaterial* m, const Rgb& fallback) {
+// Whether the file's format can name a surface colour at all. The OFF format cannot, and a PLY
+// only through an `element material` in its header (vertex colours are read apart); for these
+// Assimp's readers make up an unnamed material of their own (PLY white, OFF 0.6 grey), which is no
+// colour the file gives.
+bool format_names_materials(const std::filesystem::path& path) {
+  const std::string ext = ascii_lower(path.extension().string());
+  if (ext == ".off") return false;
+  if (ext != ".ply") return true;
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (int n = 0; n < 10000 && std::getline(in, line); ++n) {
+    const std::string t = ascii_lower(line);
+    if (t.rfind("end_header", 0) == 0) break;
+    if (t.rfind("element material", 0) == 0) return true;
+  }
+  return false;
+}
+
+Rgb material_color(const aiMaterial* m, const Rgb& fallback, bool format_names_materials) {
   // A file without materials gets Assimp's own grey "DefaultMaterial": that is no color given.
   aiString name;
-  if (m && m->Get(AI_MATKEY_NAME, name) == AI_SUCCESS &&
-      std::string(name.C_Str()) == AI_DEFAULT_MATERIAL_NAME)
-    return fallback;
+  const bool named = m && m->Get(AI_MATKEY_NAME, name) == AI_SUCCESS;
+  if (named && std::string(name.C_Str()) == AI_DEFAULT_MATERIAL_NAME) return fallback;
+  if (!named && !format_names_materials) return fallback;
   aiColor4D c;
   if (m && (aiGetMaterialColor(m, AI_MATKEY_BASE_COLOR, &c) == AI_SUCCESS ||
             aiGetMaterialColor(m, AI_MATKEY_COLOR_DIFFUSE, &c) == AI_SUCCESS))
@@ -97,6 +115,22 @@ std::optional<std::filesystem::path> find_texture(const std::string& name,
     if (auto found = paths.find(c); found && fs::is_regular_file(*found, ec)) return found;
   }
   if (leaf.empty()) return std::nullopt;
+  // An absolute path from another machine ("D:\\work\\models\\OBJ\\tex.jpg" in an FBX next to
+  // an OBJ folder): its trailing folders, longest first, under the mesh folder's parents.
+  const fs::path tail_of = fs::path(relative).parent_path();
+  std::vector<fs::path> folders(tail_of.begin(), tail_of.end());
+  fs::path above = dir.lexically_normal();
+  for (int up = 0; up < 3 && !folders.empty() && above.has_relative_path(); ++up) {
+    above = above.parent_path();
+    for (size_t first = 0; first < folders.size(); ++first) {
+      fs::path c = above;
+      for (size_t i = first; i < folders.size(); ++i) c /= folders[i];
+      c /= leaf;
+      std::error_code ec;
+      if (auto found = paths.find(c); found && fs::is_regular_file(*found, ec)) return found;
+    }
+    looked.push_back((above / "…" / folders.back() / leaf).string());
+  }
   // The file name alone, anywhere below the mesh's folder (a "textures" or "maps" folder).
   const std::string wanted = ascii_lower(leaf.string());
   std::error_code ec;
@@ -314,10 +348,11 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshOptions& options) {
   }
   std::map<std::string, int> loaded;
   CaseInsensitivePaths paths;
+  const bool names_materials = format_names_materials(path);
   for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
     const aiMesh* m = scene->mMeshes[mi];
     const aiMaterial* material = scene->mMaterials[m->mMaterialIndex];
-    const Rgb base = material_color(material, options.default_color);
+    const Rgb base = material_color(material, options.default_color, names_materials);
     const bool vertex_colors = m->HasVertexColors(0);
     // Most specific first: a texture through UVs, then vertex colors, then the material's.
     const int texture =

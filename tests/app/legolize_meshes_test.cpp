@@ -87,6 +87,26 @@ TEST(LegolizeMeshes, TexturesAreFoundTheWayWindowsToolsNameThem) {
   EXPECT_TRUE(read_json(report)["warnings"].empty());
 }
 
+// An FBX exported on another machine names its texture by that machine's absolute path; the
+// file sits in a sibling folder of the mesh's (Assimp's own FBX/spider.fbx and OBJ/SpiderTex.jpg).
+TEST(LegolizeMeshes, ATextureNamedByAnotherMachinesPathIsFoundInASiblingFolder) {
+  write_red_ppm(scratch("set/OBJ/Red.ppm"));
+  const fs::path quad = textured_quad(scratch("set/FBX"), "D:\\projects\\set\\OBJ\\red.ppm");
+  const fs::path out = scratch("quad.ldr"), report = scratch("quad.json");
+  const std::vector<std::string> args = {quad.string(), "--voxels-only", "--height", "8",
+                                         "--palette",   "4,1,15",        "-o",       out.string(),
+                                         "--report",    report.string()};
+  auto run = run_tool("legolize", args);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_GT(colours_of(out)[4], 0) << "the texture's red";
+  EXPECT_TRUE(read_json(report)["warnings"].empty()) << run.err;
+  // Not there: the warning says where it looked, the parents' folders included.
+  fs::remove(scratch("set/OBJ/Red.ppm"));
+  run = run_tool("legolize", args);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find(scratch("set").string() + "/…/OBJ/red.ppm"), std::string::npos) << run.err;
+}
+
 TEST(LegolizeMeshes, ATextureThatCannotBeReadIsAWarningOrWithStrictAnError) {
   const fs::path quad = textured_quad(scratch("model"), "maps\\missing.png");
   const fs::path out = scratch("quad.ldr"), report = scratch("quad.json");

@@ -145,6 +145,50 @@ TEST(Texture, GltfEmbeddedTextureAndNodeTransforms) {
   expect_red_left_blue_right(first);
 }
 
+// PLY and OFF files with no colour come out in the default colour: Assimp's readers make up an
+// unnamed material of their own for them (PLY white, OFF 0.6 grey), which is no colour the file
+// gives. A PLY that declares a material keeps it.
+TEST(Texture, PlyAndOffWithoutColoursTakeTheDefaultColour) {
+  MeshOptions pink;
+  pink.default_color = {1.0f, 0.5f, 0.75f};
+  auto expect_pink = [&](const fs::path& file) {
+    Mesh m = load_mesh(file, pink);
+    ASSERT_FALSE(m.triangles.empty()) << file;
+    const Rgb c = m.color_at(m.triangles[0], 1.0 / 3, 1.0 / 3, 1.0 / 3);
+    EXPECT_FLOAT_EQ(c.r, 1.0f) << file;
+    EXPECT_FLOAT_EQ(c.g, 0.5f) << file;
+    EXPECT_FLOAT_EQ(c.b, 0.75f) << file;
+  };
+  const std::string ply_head =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n";
+  auto ply = scratch("plain.ply");
+  std::ofstream(ply) << ply_head << "end_header\n0 0 0\n10 0 0\n10 10 0\n3 0 1 2\n";
+  expect_pink(ply);
+  auto off = scratch("plain.off");
+  std::ofstream(off) << "OFF\n3 1 0\n0 0 0\n10 0 0\n10 10 0\n3 0 1 2\n";
+  expect_pink(off);
+  // A vertex colour is the file's own: it stays.
+  auto coloured = scratch("coloured.ply");
+  std::ofstream(coloured)
+      << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+         "0 0 0 0 0 255\n10 0 0 0 0 255\n10 10 0 0 0 255\n3 0 1 2\n";
+  Mesh m = load_mesh(coloured, pink);
+  const Rgb c = m.color_at(m.triangles[0], 1.0 / 3, 1.0 / 3, 1.0 / 3);
+  EXPECT_FLOAT_EQ(c.b, 1.0f);
+  EXPECT_FLOAT_EQ(c.r, 0.0f);
+}
+
+// A zipped Collada file (.zae) declares its up axis in the DAE it holds, as a .dae does.
+TEST(Texture, AZippedColladaFileHasTheUpOfItsDae) {
+  const fs::path duck = "/usr/share/assimp/models/Collada/duck.zae";
+  if (!fs::exists(duck)) GTEST_SKIP() << duck << " is not installed (assimp-testmodels)";
+  Mesh m = load_mesh(duck);
+  EXPECT_NE(m.up.find("the file's up_axis"), std::string::npos) << m.up;
+}
+
 TEST(Texture, SizeAndScaleKeepTheAspect) {
   auto obj = scratch("box.obj");
   std::ofstream(obj)
