@@ -5,12 +5,14 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cmath>
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -272,6 +274,45 @@ struct Plan {
   voxel::VoxelizeOptions voxelize;
 };
 
+// A wanted list naming a colour BrickLink does not have is refused: say so before any work, for
+// every colour of the palette (and the interior's) at once.
+void check_bricklink_colours(const voxel::Palette& palette) {
+  const auto& map = report::BrickLinkMap::standard();
+  const auto& table = ldraw::ColorTable::standard();
+  std::vector<int> codes = palette.codes();
+  codes.push_back(kInsideColor);
+  std::string missing;
+  for (int code : codes)
+    if (!map.color(code))
+      missing += fmt::format("{}{} ({})", missing.empty() ? "" : ", ", code, table.name(code));
+  if (!missing.empty())
+    throw InputError("", 0,
+                     fmt::format("--bricklink: no BrickLink colour for {} in the map "
+                                 "(ldraw_parts/bricklink.csv); choose other --palette colours, "
+                                 "or leave out --bricklink",
+                                 missing));
+}
+
+// Colours outside --palette current are on the wanted list as asked, with a word on why they may
+// be hard to buy.
+std::optional<std::string> colours_not_made_today(const std::vector<report::PartCount>& parts) {
+  const auto& current = voxel::Palette::current_codes();
+  std::map<int, int> count;
+  for (const report::PartCount& p : parts)
+    if (std::find(current.begin(), current.end(), p.color) == current.end())
+      count[p.color] += p.quantity;
+  if (count.empty()) return std::nullopt;
+  std::string listed;
+  for (const auto& [code, n] : count)
+    listed += fmt::format("{}{} ({}) x {}", listed.empty() ? "" : ", ",
+                          ldraw::ColorTable::standard().name(code), code, n);
+  return fmt::format(
+      "the BrickLink wanted list holds colours LEGO does not make today in these bricks (retired, "
+      "or made in other parts): {}; sellers may have them only used, or not at all; --palette "
+      "current keeps to colours made today",
+      listed);
+}
+
 Plan check_options(const app::LegolizeOptions& o) {
   const std::string ext = ascii_lower(fs::path(o.output).extension().string());
   if (ext != ".ldr" && ext != ".mpd")
@@ -293,6 +334,7 @@ Plan check_options(const app::LegolizeOptions& o) {
   p.mesh.default_color = voxel::from_hex(*default_rgb);
   // Uncoloured surfaces match the default exactly: it is in the palette.
   p.palette = parse_palette(o.palette_spec).with(o.default_color, ldraw::ColorTable::standard());
+  if (!o.bricklink.empty()) check_bricklink_colours(p.palette);
   if (o.up != "auto") p.mesh.up = mesh::parse_up_axis(o.up);
   p.mesh.guard_seconds = o.read_seconds;
   const BrickCatalog& catalog = BrickCatalog::standard();
@@ -378,8 +420,13 @@ void write_outputs(Run& run, const std::vector<const Assembly*>& assemblies,
   Files files;
   files.emplace_back(o.output, ldraw::model_text(o.output, assemblies, w));
   if (!o.parts_list.empty()) files.emplace_back(o.parts_list, report::parts_list_csv(parts));
-  if (!o.bricklink.empty())
+  if (!o.bricklink.empty()) {
     files.emplace_back(o.bricklink, report::bricklink_xml(parts, report::BrickLinkMap::standard()));
+    if (auto words = colours_not_made_today(parts)) {
+      std::cerr << "legolize: warning: " << *words << "\n";
+      rep.warnings.push_back(*words);
+    }
+  }
   if (heat_maps) heat_maps(files);
   rep.seconds.emplace_back("output", seconds_since(t));
   rep.seconds.emplace_back("total", seconds_since(run.start));

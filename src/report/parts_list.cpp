@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <fstream>
+#include <set>
 
 #include "core/brick_catalog.h"
 #include "core/csv.h"
@@ -76,16 +77,16 @@ const int* BrickLinkMap::color(int code) const {
 
 std::string bricklink_xml(const std::vector<PartCount>& parts, const BrickLinkMap& map) {
   std::string missing;
+  std::set<int> colors_told;  // each colour once, not once per part that has it
   std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<INVENTORY>\n";
   for (const PartCount& p : parts) {
     const std::string* item = map.item(p.part);
     const int* color = map.color(p.color);
     if (!item)
       missing += fmt::format("\n  part {} ({}) has no BrickLink item number", p.part, p.name);
-    if (!color) {
+    if (!color && colors_told.insert(p.color).second)
       missing += fmt::format("\n  LDraw color {} ({}) has no BrickLink color", p.color,
                              ldraw::ColorTable::standard().name(p.color));
-    }
     if (!item || !color) continue;
     out += fmt::format(
         "  <ITEM>\n    <ITEMTYPE>P</ITEMTYPE>\n    <ITEMID>{}</ITEMID>\n    <COLOR>{}</COLOR>\n"

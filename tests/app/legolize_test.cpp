@@ -491,9 +491,45 @@ TEST(Legolize, BrickLinkListMapsColorsAndRefusesUnmappedOnes) {
   auto bad = run_tool("legolize", {sample("globe.ply").string(), "--height", "6", "--palette", "11",
                                    "-o", out2.string(), "--bricklink", xml2.string()});
   EXPECT_EQ(bad.exit_code, 2);
-  EXPECT_NE(bad.err.find("LDraw color 11"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("no BrickLink colour for 11 (Light_Turquoise)"), std::string::npos)
+      << bad.err;
+  EXPECT_EQ(bad.err.find("reading"), std::string::npos) << "said before any work: " << bad.err;
   EXPECT_FALSE(fs::exists(out2));
   EXPECT_FALSE(fs::exists(xml2));
+}
+
+// The paper's palette has Brown (LDraw 6), which LEGO no longer makes: the wanted list names it,
+// as asked, and a warning says why it may be hard to buy.
+TEST(Legolize, ABrickLinkListWithRetiredColoursSaysSo) {
+  std::ofstream(scratch("brown.mtl")) << "newmtl wood\nKd 0.35 0.18 0.07\n";
+  auto obj = scratch("brown.obj");
+  std::ofstream out(obj);
+  out << "mtllib brown.mtl\nusemtl wood\n";
+  for (int i = 0; i < 8; ++i)
+    out << "v " << 12 * (i & 1) << " " << 12 * ((i >> 1) & 1) << " " << 12 * ((i >> 2) & 1) << "\n";
+  out << "f 1 5 7 3\nf 2 4 8 6\nf 1 2 6 5\nf 3 7 8 4\nf 1 3 4 2\nf 5 6 8 7\n";
+  out.close();
+  auto ldr = scratch("brown.ldr"), xml = scratch("brown.xml"), report = scratch("brown.json");
+  auto run =
+      run_tool("legolize", {obj.string(), "--height", "4", "--palette", "paper", "-o", ldr.string(),
+                            "--bricklink", xml.string(), "--report", report.string()});
+  ASSERT_LE(run.exit_code, 1) << run.err;
+  std::ifstream in(xml);
+  const std::string text(std::istreambuf_iterator<char>(in), {});
+  EXPECT_NE(text.find("<COLOR>8</COLOR>"), std::string::npos) << text;  // BrickLink's Brown
+  EXPECT_NE(run.err.find("warning: the BrickLink wanted list holds colours LEGO does not make "
+                         "today"),
+            std::string::npos)
+      << run.err;
+  EXPECT_NE(run.err.find("Brown (6) x "), std::string::npos) << run.err;
+  std::ifstream rin(report);
+  const std::string rtext(std::istreambuf_iterator<char>(rin), {});
+  EXPECT_NE(rtext.find("LEGO does not make today"), std::string::npos);
+  // With the current palette no warning.
+  run = run_tool("legolize",
+                 {obj.string(), "--height", "4", "-o", ldr.string(), "--bricklink", xml.string()});
+  ASSERT_LE(run.exit_code, 1) << run.err;
+  EXPECT_EQ(run.err.find("does not make today"), std::string::npos) << run.err;
 }
 
 TEST(Legolize, BadInputForTheConversionExitsTwoAndWritesNothing) {
