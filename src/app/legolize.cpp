@@ -28,6 +28,7 @@
 #include "layout/pieces.h"
 #include "layout/reconfigure.h"
 #include "layout/refine.h"
+#include "layout/supports.h"
 #include "layout/to_assembly.h"
 #include "ldraw/reader.h"
 #include "ldraw/writer.h"
@@ -126,7 +127,9 @@ struct PieceSettings {
   layout::RefineOptions refine;
   layout::ConnectOptions connect;
   layout::BuildOrderOptions order;
+  layout::SupportOptions supports;
   bool refine_layout = true;
+  bool add_supports = true;
   double min_cm = 0;
   std::function<void(const std::string&)> stage;
 };
@@ -142,11 +145,13 @@ struct PieceResult {
   layout::ConnectResult connect;
   int pieces_before = 0;
   size_t voxels_added = 0;
-  layout::RefineResult refined;  // `final` is the finished piece's analysis
+  layout::RefineResult refined;  // `final` is the finished piece's analysis (with its supports)
+  layout::SupportResult supports;
+  size_t support_bricks = 0;
   bool stable = true, steps_stand = true;
   std::string bottleneck;
   layout::BuildOrder order;
-  double seconds_initialize = 0, seconds_refine = 0, seconds_order = 0;
+  double seconds_initialize = 0, seconds_refine = 0, seconds_supports = 0, seconds_order = 0;
 };
 
 PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings& s) {
@@ -195,7 +200,25 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
         out.refined.rejected_by_bound, out.refined.bound_seconds));
   }
   out.seconds_refine = seconds_since(t);
-  out.la = layout::to_assembly(lay, *s.catalog, s.refine.inside_color, s.refine.loads);
+  // What the refinement could not make stand gets supports (layout/supports.h).
+  if (refining && !out.stable && s.add_supports) {
+    t = Clock::now();
+    s.stage("adding supports under what hangs");
+    out.supports = layout::add_supports(lay, *s.catalog, out.refined.final, s.supports);
+    if (!out.supports.columns.empty()) {
+      out.refined.final = out.supports.final;
+      out.stable = out.supports.stable;
+    }
+    s.stage(fmt::format("supports: {} column{} ({} voxels), C_M {}; {} analyses ({:.2f} s){}",
+                        out.supports.columns.size(), out.supports.columns.size() == 1 ? "" : "s",
+                        out.supports.voxels, analysis_words(out.refined.final),
+                        out.supports.analyses, seconds_since(t),
+                        out.supports.out_of_time ? ", out of time" : ""));
+    out.seconds_supports = seconds_since(t);
+  }
+  out.la = layout::to_assembly(lay, *s.catalog, s.refine.inside_color, s.refine.loads,
+                               s.refine.support_color);
+  for (const Brick& b : out.la.assembly.bricks) out.support_bricks += b.support;
   if (!refining) {
     out.refined.initial = out.refined.final =
         physics::analyze_stability(out.la.assembly, s.refine.stability);
@@ -275,12 +298,13 @@ struct Plan {
 };
 
 // A wanted list naming a colour BrickLink does not have is refused: say so before any work, for
-// every colour of the palette (and the interior's) at once.
-void check_bricklink_colours(const voxel::Palette& palette) {
+// every colour of the palette (and the interior's and the supports', -1 for none) at once.
+void check_bricklink_colours(const voxel::Palette& palette, int support_color) {
   const auto& map = report::BrickLinkMap::standard();
   const auto& table = ldraw::ColorTable::standard();
   std::vector<int> codes = palette.codes();
   codes.push_back(kInsideColor);
+  if (support_color >= 0) codes.push_back(support_color);
   std::string missing;
   for (int code : codes)
     if (!map.color(code))
@@ -334,7 +358,13 @@ Plan check_options(const app::LegolizeOptions& o) {
   p.mesh.default_color = voxel::from_hex(*default_rgb);
   // Uncoloured surfaces match the default exactly: it is in the palette.
   p.palette = parse_palette(o.palette_spec).with(o.default_color, ldraw::ColorTable::standard());
-  if (!o.bricklink.empty()) check_bricklink_colours(p.palette);
+  const auto& table = ldraw::ColorTable::standard();
+  if (!table.rgb(o.support_color) || o.support_color == ldraw::kMainColor ||
+      o.support_color == ldraw::kEdgeColor)
+    throw InputError(
+        "", 0, fmt::format("--support-color: {} is not in the colour table", o.support_color));
+  if (!o.bricklink.empty())
+    check_bricklink_colours(p.palette, o.no_supports ? -1 : o.support_color);
   if (o.up != "auto") p.mesh.up = mesh::parse_up_axis(o.up);
   p.mesh.guard_seconds = o.read_seconds;
   const BrickCatalog& catalog = BrickCatalog::standard();
@@ -345,9 +375,11 @@ Plan check_options(const app::LegolizeOptions& o) {
   for (const auto& l : o.limits) p.rules.limits.add(l, catalog);
   p.refine.min_cm_gf = o.min_cm;
   p.refine.fail_max = o.fail_max;
+  p.refine.max_seconds = o.refine_seconds;
   p.refine.side_by_side = o.jobs > 1;
   if (o.no_local_bounds) p.refine.bound_ring = -1;
   p.refine.inside_color = kInsideColor;
+  p.refine.support_color = p.rules.limits.support_color = o.support_color;
   p.refine.stability.ground =
       o.ground == "table" ? physics::GroundMode::Table : physics::GroundMode::Baseplate;
   p.refine.loads.top_grams = o.load_top;
@@ -506,6 +538,12 @@ std::vector<PieceResult> convert_pieces(const Run& run, Plan& p,
   settings.rules = &p.rules;
   settings.refine = p.refine;
   settings.refine_layout = !o.no_refine;
+  settings.add_supports = !o.no_supports;
+  settings.supports.stability = p.refine.stability;
+  settings.supports.inside_color = p.refine.inside_color;
+  settings.supports.support_color = p.refine.support_color;
+  settings.supports.min_cm_gf = o.min_cm;
+  settings.supports.side_by_side = o.jobs > 1;
   settings.min_cm = o.min_cm;
   settings.stage = run.stage_sink();
   settings.connect.fail_max = o.fail_max;
@@ -523,6 +561,12 @@ std::vector<PieceResult> convert_pieces(const Run& run, Plan& p,
     last = Clock::now();
     run.stage(fmt::format("refine: iteration {}, C_M {}, fail count {}, {} accepted", pr.iteration,
                           cm_words(pr.cm_gf), pr.fail_count, pr.accepted));
+  };
+  settings.supports.progress = [&](int columns, double cm_gf) {
+    if (o.quiet) return;
+    last = Clock::now();
+    run.stage(fmt::format("supports: {} column{}, C_M {}", columns, columns == 1 ? "" : "s",
+                          cm_words(cm_gf)));
   };
   settings.order.stability = p.refine.stability;
   settings.order.min_cm_gf = o.min_cm;
@@ -545,6 +589,7 @@ std::vector<PieceResult> convert_pieces(const Run& run, Plan& p,
         l.y -= piece.lift;
         settings.refine.loads.at_voxels.push_back(l);
       }
+    settings.supports.loads = settings.refine.loads;
     settings.order.progress = [&](int step, int placed, double seconds) {
       if (o.quiet || seconds_since(last) < 0.5) return;
       last = Clock::now();
@@ -561,9 +606,10 @@ std::vector<PieceResult> convert_pieces(const Run& run, Plan& p,
 size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
   report::ConversionReport& rep = run.rep;
   rep.stable = rep.steps_stand = rep.single_connected = rep.decided = true;
+  rep.support_color = run.o.support_color;
   rep.steps_analysed = !run.o.no_step_analysis;
   size_t weakest = 0;
-  double seconds_initialize = 0, seconds_refine = 0, seconds_order = 0;
+  double seconds_initialize = 0, seconds_refine = 0, seconds_supports = 0, seconds_order = 0;
   for (size_t k = 0; k < results.size(); ++k) {
     const PieceResult& r = results[k];
     const double cm = layout::comparable_cm_gf(r.refined.final);
@@ -571,6 +617,8 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
     rep.components += r.connect.components;
     rep.pieces_before_joining += r.pieces_before;
     rep.voxels_added_to_join += r.voxels_added;
+    rep.support_columns += int(r.supports.columns.size());
+    rep.support_bricks += r.support_bricks;
     rep.single_connected = rep.single_connected && r.connect.single;
     rep.decided = rep.decided && physics::decided(r.refined.final.status);
     rep.stable = rep.stable && r.stable;
@@ -578,10 +626,12 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
     rep.iterations += r.refined.iterations;
     rep.accepted += r.refined.accepted;
     rep.lp_solves += r.refined.lp_solves;
+    rep.refine_out_of_time = rep.refine_out_of_time || r.refined.out_of_time;
     rep.rejected_by_bound += r.refined.rejected_by_bound;
     rep.held_back += r.order.held_back;
     seconds_initialize += r.seconds_initialize;
     seconds_refine += r.seconds_refine;
+    seconds_supports += r.seconds_supports;
     seconds_order += r.seconds_order;
     if (!r.stable && rep.bottleneck.empty())
       rep.bottleneck =
@@ -602,6 +652,9 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
          .components = r.connect.components,
          .components_before_joining = r.pieces_before,
          .voxels_added = r.voxels_added,
+         .support_columns = int(r.supports.columns.size()),
+         .support_bricks = r.support_bricks,
+         .support_voxels = r.supports.voxels,
          .cm_gf = cm,
          .stable = r.stable,
          .steps_stand = r.steps_stand,
@@ -619,6 +672,7 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
   rep.status_final = physics::to_string(weak.refined.final.status);
   rep.seconds.emplace_back("initialize", seconds_initialize);
   rep.seconds.emplace_back("refine", seconds_refine);
+  rep.seconds.emplace_back("supports", seconds_supports);
   rep.seconds.emplace_back("build_order", seconds_order);
   return weakest;
 }
@@ -657,14 +711,29 @@ void print_summary(const Run& run, const std::vector<PieceResult>& results, size
   if (rep.voxels_added_to_join > 0)
     std::cout << fmt::format("{} voxels added to join thin parts ({} parts before, {} after)\n",
                              rep.voxels_added_to_join, rep.pieces_before_joining, rep.components);
-  std::cout << fmt::format("C_M {} -> {} ({}), {} iterations, {} accepted, {:.2f} s\n",
-                           analysis_words(weak.refined.initial), analysis_words(weak.refined.final),
-                           rep.stable    ? "stable"
-                           : rep.decided ? "UNSTABLE"
-                                         : "UNDECIDED",
-                           rep.iterations, rep.accepted, seconds_since(run.start));
+  std::cout << fmt::format(
+      "C_M {} -> {} ({}), {} iterations, {} accepted{}, {:.2f} s\n",
+      analysis_words(weak.refined.initial), analysis_words(weak.refined.final),
+      rep.stable    ? "stable"
+      : rep.decided ? "UNSTABLE"
+                    : "UNDECIDED",
+      rep.iterations, rep.accepted,
+      rep.refine_out_of_time
+          ? fmt::format(" (the refinement stopped at --refine-seconds {:g})", run.o.refine_seconds)
+          : std::string(),
+      seconds_since(run.start));
   if (!rep.solver_note_final.empty())
     std::cout << fmt::format("solver: {} ({})\n", rep.solver_final, rep.solver_note_final);
+  if (rep.support_bricks > 0)
+    std::cout << fmt::format(
+        "supports: {} column{} of {} bricks in {} ({}) added under what hangs, so that it "
+        "stands{}; built first, {}\n",
+        rep.support_columns, rep.support_columns == 1 ? "" : "s", rep.support_bricks,
+        ldraw::ColorTable::standard().name(rep.support_color), rep.support_color,
+        rep.stable ? "" : " (it still does not)",
+        ldraw::is_mpd(run.o.output)
+            ? "as the submodel " + fs::path(run.o.output).stem().string() + "-supports.ldr"
+            : std::string("as the group 'Supports'"));
   if (!rep.stable) std::cout << "weakest: " << rep.bottleneck << "\n";
   if (!rep.steps.empty() && !rep.steps_analysed) {
     std::cout << fmt::format("build steps: {}, not analysed (--no-step-analysis)\n",

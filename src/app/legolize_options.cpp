@@ -95,6 +95,20 @@ void add_options(CLI::App& app, LegolizeOptions& o) {
       ->check(CLI::IsMember({"baseplate", "table"}))
       ->group(g_physics);
   app.add_flag("--no-refine", o.no_refine, "skip the stability-aware refinement")->group(g_physics);
+  app.add_option("--refine-seconds", o.refine_seconds,
+                 "the refinement stops after this long (default 60); what does not stand then "
+                 "gets supports")
+      ->check(finite_number(Sign::Positive))
+      ->group(g_physics);
+  app.add_option("--support-color", o.support_color,
+                 fmt::format("LDraw colour of the supports: columns from the ground added under "
+                             "what hangs when the refined layout does not stand, built first "
+                             "(default {}, Medium Azure)",
+                             o.support_color))
+      ->group(g_physics);
+  app.add_flag("--no-supports", o.no_supports,
+               "never add supports: a layout that does not stand is written as it is (exit 1)")
+      ->group(g_physics);
   app.add_flag("--no-step-analysis", o.no_step_analysis,
                "order the build steps by studs alone, without analysing each step (each analysis "
                "costs about half the final one; the report then says so)")

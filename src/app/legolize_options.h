@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "layout/build_order.h"
+#include "layout/target.h"
 
 namespace lego::app {
 
@@ -19,12 +20,13 @@ struct LegolizeOptions {
                              ground = "baseplate", inventory, parts_list, bricklink, report_path,
                              heatmap, instructions;
   int height = 20, shell = 3, fail_max = 100, default_color = kUncolouredColor,
-      max_step_parts = layout::BuildOrderOptions{}.max_new_bricks, jobs = 2;
+      max_step_parts = layout::BuildOrderOptions{}.max_new_bricks, jobs = 2,
+      support_color = layout::kDefaultSupportColor;
   size_t max_voxels = 8'000'000;
-  double scale = 0, w_c = 1, min_cm = 0, load_top = 0, read_seconds = 120;
+  double scale = 0, w_c = 1, min_cm = 0, load_top = 0, read_seconds = 120, refine_seconds = 60;
   uint64_t seed = 1;
   bool voxels_only = false, solid = false, no_refine = false, quiet = false,
-       no_step_analysis = false, no_local_bounds = false, strict = false;
+       no_step_analysis = false, no_local_bounds = false, strict = false, no_supports = false;
   std::vector<std::string> limits, loads;
 };
 

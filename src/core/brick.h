@@ -87,6 +87,9 @@ struct Brick {
   int color = 16;                     // LDraw colour code
   SourceRef source;
   bool fixed = false;  // part of the ground: a baseplate at the bottom, or named so by the user
+  // Not the model's: a column legolize adds under what hangs, built first and taken away once the
+  // model stands (layout/supports.h).
+  bool support = false;
 
   int size_x() const { return rotated ? type->width : type->length; }
   int size_z() const { return rotated ? type->length : type->width; }

@@ -400,6 +400,26 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
   };
   std::optional<Attempt> best;
   int repairs = 0, falling_in_a_row = 0;
+  // A step's bricks placed; `leaves_layer` keeps the cursor on its layer.
+  auto place = [&](StepAnalysis& now, bool leaves_layer) {
+    p.commit(now.fresh, leaves_layer);
+    if (!now.forces.empty()) p.built = std::move(now.forces);
+    for (int i : now.fresh) out.step_of[size_t(i)] = int(out.steps.size()) + 1;
+    out.steps.push_back(now.step);
+    if (options.progress)
+      options.progress(int(out.steps.size()), p.placed_count, seconds_since(start));
+  };
+  // Supports (layout/supports.h) first, in a step of their own: columns that stand alone on the
+  // ground, which the model is then built around and on.
+  PlannedStep supports;
+  for (int i = 0; i < p.size(); ++i)
+    if (a.bricks[size_t(i)].support) supports.bricks.push_back(i);
+  if (!supports.bricks.empty() && !p.done()) {
+    StepAnalysis now = analyse_step(p, std::move(supports), options);
+    ++out.analyses;
+    falling_in_a_row = now.step.stands ? 0 : 1;
+    place(now, /*leaves_layer=*/true);
+  }
   while (!p.done()) {
     StepAnalysis now;
     if (ahead) {
@@ -464,12 +484,7 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
     falling_in_a_row = now.step.stands ? 0 : falling_in_a_row + 1;
     best.reset();
     repairs = 0;
-    p.commit(now.fresh, now.leaves_layer);
-    if (!now.forces.empty()) p.built = std::move(now.forces);
-    for (int i : now.fresh) out.step_of[size_t(i)] = int(out.steps.size()) + 1;
-    out.steps.push_back(now.step);
-    if (options.progress)
-      options.progress(int(out.steps.size()), p.placed_count, seconds_since(start));
+    place(now, now.leaves_layer);
   }
   solve_weakest_step_exactly(a, options, out);
   out.seconds = seconds_since(start);

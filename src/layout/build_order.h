@@ -63,7 +63,8 @@ struct BuildOrder {
   double min_cm_gf() const;
 };
 
-// Orders the bricks layer by layer from the ground up. Step k takes every brick of layers up to
+// Orders the bricks layer by layer from the ground up, supports (Brick::support) first in a step of
+// their own. Step k takes every brick of layers up to
 // the k-th that a brick already placed (or the ground) holds by its studs: a brick hanging from
 // the layer above comes with the next layer, in the step after the brick that holds it. Of more
 // than max_new_bricks, a group of nearby ones; the layer's others follow in the next steps. Each

@@ -33,6 +33,12 @@ int Layout::grow(int x, int y, int z, int color) {
   return add(LayoutBrick{.x = x, .y = y, .z = z, .color = color});
 }
 
+int Layout::grow(const LayoutBrick& brick) {
+  for (int z = brick.z; z < brick.max_z(); ++z)
+    for (int x = brick.x; x < brick.max_x(); ++x) target_.set(x, brick.y, z, brick.color);
+  return add(brick);
+}
+
 std::vector<int> Layout::brick_ids() const {
   std::vector<int> ids;
   ids.reserve(alive_);

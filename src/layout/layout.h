@@ -66,6 +66,9 @@ class Layout {
   // Makes the empty voxel (x, y, z) part of the target, in `color`, filled by a 1x1 brick (not
   // inside an edit): voxels added to join parts (layout/pieces.h).
   int grow(int x, int y, int z, int color);
+  // Makes the empty voxels under `brick` part of the target, in its colour, filled by it (not
+  // inside an edit): supports (layout/supports.h).
+  int grow(const LayoutBrick& brick);
   void remove(int id);
   void begin_edit();
   void commit();

@@ -59,16 +59,21 @@ bool Limits::limits_size(int length, int width) const {
          std::get<1>(it->first) == width;
 }
 
+int Limits::stand_ins(const Layout& layout, int length, int width, int color) const {
+  return (color == inside_color ? layout.count(length, width, kIgnore) : 0) +
+         (color == support_color ? layout.count(length, width, kSupport) : 0);
+}
+
 bool Limits::allow(const Layout& layout, const LayoutBrick& b) const {
   if (empty() && !listed_only) return true;
   const int l = b.length(), w = b.width();
-  const int color = b.color == kIgnore ? inside_color : b.color;
+  const int color = ldraw_color(b.color, inside_color, support_color);
   auto size = by_size.find({l, w});
   if (size != by_size.end() && layout.count(l, w) + 1 > size->second) return false;
   auto colored = by_size_color.find({l, w, color});
   if (colored != by_size_color.end()) {
     int used = layout.count(l, w, color);
-    if (color == inside_color) used += layout.count(l, w, kIgnore);
+    used += stand_ins(layout, l, w, color);
     return used + 1 <= colored->second;
   }
   return !listed_only || size != by_size.end();
@@ -83,7 +88,7 @@ std::vector<std::string> Limits::exceeded(const Layout& layout) const {
   std::map<std::tuple<int, int, int>, int> used;
   for (int id : layout.brick_ids()) {
     const LayoutBrick& b = layout.brick(id);
-    ++used[{b.length(), b.width(), b.color == kIgnore ? inside_color : b.color}];
+    ++used[{b.length(), b.width(), ldraw_color(b.color, inside_color, support_color)}];
   }
   for (auto& [key, n] : used) {
     auto [l, w, color] = key;
@@ -103,7 +108,7 @@ void Limits::use_up(const Layout& layout) {
   for (auto& [key, limit] : by_size_color) {
     const auto [l, w, color] = key;
     int used = layout.count(l, w, color);
-    if (color == inside_color) used += layout.count(l, w, kIgnore);
+    used += stand_ins(layout, l, w, color);
     limit = std::max(0, limit - used);
   }
 }

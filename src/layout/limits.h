@@ -23,6 +23,7 @@ struct Limits {
   std::map<std::tuple<int, int, int>, int> by_size_color;  // (length, width, LDraw color)
   // The color IGNORE bricks are built in, so that they count against its limits.
   int inside_color = 72;
+  int support_color = kDefaultSupportColor;  // and supports in this one
   // Set by an inventory: a size and color it does not list may not be used at all.
   bool listed_only = false;
 
@@ -44,6 +45,11 @@ struct Limits {
   // an empty color means any color), a regular file of at most kMaxInventoryBytes. Throws
   // InputError with file:line.
   void read_inventory(const std::filesystem::path& csv, const BrickCatalog& catalog);
+
+ private:
+  // Bricks of this size that are built in `color` without being counted in it: IGNORE bricks in
+  // the inside colour, supports in the support colour.
+  int stand_ins(const Layout& layout, int length, int width, int color) const;
 };
 
 }  // namespace lego::layout

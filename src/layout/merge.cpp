@@ -36,6 +36,8 @@ std::optional<LayoutBrick> merge_of(const Layout& layout, int a, int b, const Me
   auto m = merged_shape(layout, a, b, rules.family);
   if (!m) return std::nullopt;
   const int ca = layout.brick(a).color, cb = layout.brick(b).color;
+  // A support is removed after building: no brick is half support, whatever the colour rule.
+  if ((ca == kSupport) != (cb == kSupport)) return std::nullopt;
   const bool two_colors = ca != kIgnore && cb != kIgnore && ca != cb;
   if (!two_colors) return rules.limits.allow(layout, *m) ? m : std::nullopt;
   if (rules.color == ColorRule::Hard) return std::nullopt;

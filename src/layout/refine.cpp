@@ -85,7 +85,9 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
   RefineResult out;
   Assembly current_assembly;  // of the layout as it stands, whose analysis `current` is
   Analysis current = [&] {
-    current_assembly = to_assembly(layout, catalog, options.inside_color, options.loads).assembly;
+    current_assembly =
+        to_assembly(layout, catalog, options.inside_color, options.loads, options.support_color)
+            .assembly;
     Analysis a = analyze(current_assembly, layout.depth(), options, size_t(rng.next()));
     ++out.lp_solves;
     return a;
@@ -122,7 +124,8 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
       round[c].connected = analyze_components(layout, rng, options.ground_connects).count == 1;
       if (round[c].connected) {
         round[c].edit = layout.open_edit();
-        round[c].assembly = to_assembly(layout, catalog, options.inside_color, options.loads);
+        round[c].assembly = to_assembly(layout, catalog, options.inside_color, options.loads,
+                                        options.support_color);
       } else {
         ++out.rejected_disconnected;
       }

@@ -40,6 +40,7 @@ struct RefineOptions {
   physics::StabilityOptions stability;
   Loads loads;
   int inside_color = 72;
+  int support_color = kDefaultSupportColor;
   std::function<void(const RefineProgress&)> progress;  // after every iteration; may be empty
 };
 

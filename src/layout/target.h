@@ -13,10 +13,23 @@ namespace lego::layout {
 
 inline constexpr int kEmpty = -1;
 inline constexpr int kIgnore = -2;
+// A voxel the model does not have, filled to hold up what hangs over it (layout/supports.h): its
+// bricks join only each other and take the support colour.
+inline constexpr int kSupport = -3;
+// Medium Azure: made today, on BrickLink, and seldom a sculpture's own colour.
+inline constexpr int kDefaultSupportColor = 322;
+
+// The LDraw colour a layout brick is built in: its own, or the one chosen for IGNORE (inside) or
+// support bricks.
+inline int ldraw_color(int layout_color, int inside_color, int support_color) {
+  return layout_color == kIgnore    ? inside_color
+         : layout_color == kSupport ? support_color
+                                    : layout_color;
+}
 
 struct Target {
   int width = 0, height = 0, depth = 0;  // x, y (layers), z
-  std::vector<int> color;                // kEmpty, kIgnore or an LDraw color code
+  std::vector<int> color;                // kEmpty, kIgnore, kSupport or an LDraw color code
 
   Target() = default;
   Target(int w, int h, int d) : width(w), height(h), depth(d), color(size_t(w) * h * d, kEmpty) {}

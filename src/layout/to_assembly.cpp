@@ -48,7 +48,7 @@ std::vector<int> layer_order(const Layout& layout, std::vector<int> layer) {
 }  // namespace
 
 LayoutAssembly to_assembly(const Layout& layout, const BrickCatalog& catalog, int inside_color,
-                           const Loads& loads) {
+                           const Loads& loads, int support_color) {
   std::vector<std::vector<int>> layers(size_t(std::max(layout.height(), 0)));
   for (int id : layout.brick_ids()) layers[size_t(layout.brick(id).y)].push_back(id);
   LayoutAssembly out;
@@ -63,7 +63,8 @@ LayoutAssembly to_assembly(const Layout& layout, const BrickCatalog& catalog, in
                                "x" + std::to_string(b.length()));
       brick.rotated = b.size_z > b.size_x;
       brick.min = {b.x, b.y * kPlatesPerBrick, layout.depth() - b.max_z()};
-      brick.color = b.color == kIgnore ? inside_color : b.color;
+      brick.color = ldraw_color(b.color, inside_color, support_color);
+      brick.support = b.color == kSupport;
       brick.source.step = b.y + 1;
       assembly_index[id] = int(out.assembly.bricks.size());
       out.assembly.bricks.push_back(brick);

@@ -28,9 +28,9 @@ struct LayoutAssembly {
 // orders the steps so that each stands), in building order: first the bricks that rest on the
 // layer below, then outward from them through side neighbours. Lattice z runs opposite to voxel
 // z, which turns the model a half turn about x instead of mirroring it (LDraw is right-handed with
-// -y up). IGNORE bricks get `inside_color`. Throws InputError when a voxel load names an empty
-// voxel.
+// -y up). IGNORE bricks get `inside_color`, supports `support_color` (and Brick::support). Throws
+// InputError when a voxel load names an empty voxel.
 LayoutAssembly to_assembly(const Layout& layout, const BrickCatalog& catalog, int inside_color,
-                           const Loads& loads = {});
+                           const Loads& loads = {}, int support_color = kDefaultSupportColor);
 
 }  // namespace lego::layout

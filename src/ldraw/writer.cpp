@@ -85,18 +85,35 @@ Transform brick_transform(const Brick& brick, const std::array<int, 3>& origin_l
 
 namespace {
 
-// The bricks of one assembly by build step, `0 STEP` after each step.
+// What a builder reads where the supports begin (Brick::support).
+constexpr const char* kSupportsWords =
+    "Supports: columns that are not the model's, which it stands on. Build them first; the model "
+    "needs them to stand";
+
+// The bricks of one assembly by build step, `0 STEP` after each step. Supports are a group of
+// their own (LeoCAD's, which other editors keep as comments), so that they can be seen and
+// selected together.
 std::string bricks_by_step(const Assembly& assembly, bool steps) {
   std::string out;
   auto order = steps ? by_step(assembly) : std::vector<size_t>{};
   if (!steps)
     for (size_t i = 0; i < assembly.bricks.size(); ++i) order.push_back(i);
+  bool in_supports = false;
   for (size_t k = 0; k < order.size(); ++k) {
     const Brick& b = assembly.bricks[order[k]];
+    if (in_supports && !b.support) {
+      out += "0 !LEOCAD GROUP END\n";
+      in_supports = false;
+    }
     if (steps && k > 0 && assembly.bricks[order[k - 1]].source.step != b.source.step)
       out += "0 STEP\n";
+    if (b.support && !in_supports) {
+      out += fmt::format("0 // {}.\n0 !LEOCAD GROUP BEGIN Supports\n", kSupportsWords);
+      in_supports = true;
+    }
     out += brick_line(b, assembly.origin_ldu);
   }
+  if (in_supports) out += "0 !LEOCAD GROUP END\n";
   if (steps && !order.empty()) out += "0 STEP\n";
   return out;
 }
@@ -116,17 +133,28 @@ std::string mpd_model(const Assembly& assembly, const std::string& name, const s
   std::map<int, std::vector<size_t>> steps;
   for (size_t i : by_step(assembly)) steps[assembly.bricks[i].source.step].push_back(i);
   std::string out = "0 FILE " + name + "\n" + header(title, name, author);
+  // A step of supports only is the submodel "<stem>-supports.ldr".
+  auto supports_only = [&](const std::vector<size_t>& bricks) {
+    return std::all_of(bricks.begin(), bricks.end(),
+                       [&](size_t i) { return assembly.bricks[i].support; });
+  };
   std::vector<std::string> names;
   int k = 0;
-  for (size_t i = 0; i < steps.size(); ++i) {
-    names.push_back(fmt::format("{}-step-{:03}.ldr", stem, ++k));
+  for (const auto& [step, bricks] : steps) {
+    ++k;
+    names.push_back(supports_only(bricks) ? fmt::format("{}-supports.ldr", stem)
+                                          : fmt::format("{}-step-{:03}.ldr", stem, k));
+    if (supports_only(bricks)) out += fmt::format("0 // {}.\n", kSupportsWords);
     out += "1 16 0 0 0 1 0 0 0 1 0 0 0 1 " + names.back() + "\n0 STEP\n";
   }
   out += extra + "0 NOFILE\n";
   k = 0;
   for (const auto& [step, bricks] : steps) {
     const std::string& file = names[k++];
-    out += "0 FILE " + file + "\n" + header(fmt::format("{} - step {}", title, k), file, author);
+    const std::string step_title = supports_only(bricks)
+                                       ? fmt::format("{} - step {}: supports", title, k)
+                                       : fmt::format("{} - step {}", title, k);
+    out += "0 FILE " + file + "\n" + header(step_title, file, author);
     for (size_t i : bricks) out += brick_line(assembly.bricks[i], assembly.origin_ldu);
     out += "0 NOFILE\n";
   }

@@ -39,6 +39,7 @@ nlohmann::json to_json(const ConversionReport& r) {
   j["iterations"] = r.iterations;
   j["accepted"] = r.accepted;
   j["lp_solves"] = r.lp_solves;
+  j["refine_out_of_time"] = r.refine_out_of_time;
   j["rejected_by_bound"] = r.rejected_by_bound;
   nlohmann::json seconds = nlohmann::json::object();
   for (auto& [stage, s] : r.seconds) seconds[stage] = s;
@@ -74,6 +75,10 @@ nlohmann::json to_json(const ConversionReport& r) {
          {"components", p.components},
          {"components_before_joining", p.components_before_joining},
          {"voxels_added", p.voxels_added},
+         {"supports",
+          {{"columns", p.support_columns},
+           {"bricks", p.support_bricks},
+           {"voxels", p.support_voxels}}},
          {"cm_gf", number_or_null(p.cm_gf)},
          {"stable", p.stable},
          {"steps_stand", p.steps_stand},
@@ -81,6 +86,9 @@ nlohmann::json to_json(const ConversionReport& r) {
   j["pieces"] = pieces;
   j["pieces_before_joining"] = r.pieces_before_joining;
   j["voxels_added_to_join"] = r.voxels_added_to_join;
+  j["supports"] = {{"columns", r.support_columns},
+                   {"bricks", r.support_bricks},
+                   {"color", r.support_bricks > 0 ? nlohmann::json(r.support_color) : nullptr}};
   j["seed"] = r.seed;
   j["version"] = r.version;
   return j;

@@ -32,7 +32,9 @@ struct PieceReport {
   size_t voxels = 0, bricks = 0;
   int components = 1, components_before_joining = 1;
   size_t voxels_added = 0;  // to join thin parts
-  double cm_gf = 0;         // -inf (JSON null) when there is no equilibrium
+  int support_columns = 0;  // layout/supports.h
+  size_t support_bricks = 0, support_voxels = 0;
+  double cm_gf = 0;  // -inf (JSON null) when there is no equilibrium
   bool stable = false, steps_stand = false;
   std::string submodel;  // its file in the .mpd; empty for the first piece and in an .ldr
 };
@@ -45,6 +47,10 @@ struct ConversionReport {
   std::vector<PieceReport> pieces;
   int pieces_before_joining = 0;  // components after the first layout, all pieces together
   size_t voxels_added_to_join = 0;
+  // Columns added under what hangs so that the model stands (layout/supports.h), all pieces.
+  int support_columns = 0;
+  size_t support_bricks = 0;
+  int support_color = 0;
   std::array<int, 3> voxels{0, 0, 0};  // W, H, D
   size_t voxels_filled = 0;
   size_t bricks = 0;
@@ -58,6 +64,7 @@ struct ConversionReport {
   std::string solver_final, solver_note_final;  // which solver gave the final C_M, and why
   bool stable = false;
   int iterations = 0, accepted = 0, lp_solves = 0;
+  bool refine_out_of_time = false;  // the refinement stopped at its time limit
   // Candidates rejected on a local upper bound, without a whole-model analysis.
   int rejected_by_bound = 0;
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order

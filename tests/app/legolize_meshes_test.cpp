@@ -342,6 +342,64 @@ TEST(LegolizeMeshes, AThinSpanIsJoinedWithAddedVoxelsAndTheReportSaysHowMany) {
   EXPECT_NE(run.out.find("voxels added to join thin parts"), std::string::npos) << run.out;
 }
 
+// A heavy slab on one thin post at its corner: no layout of it stands. legolize adds a column
+// under what hangs, in the support colour, as a submodel built first; brickcheck agrees that the
+// file and each of its steps stand. Without supports it says the model falls (exit 1).
+TEST(LegolizeMeshes, WhatCannotStandGetsSupportsInASubmodelOfTheirOwn) {
+  const fs::path obj = scratch("table.obj");
+  std::ofstream(obj) << obj_box(0, 0, 0, 16, 57.6, 16, 1) << obj_box(0, 57.6, 0, 96, 86.4, 96, 9);
+  const fs::path out = scratch("table.mpd"), report = scratch("table.json");
+  const std::vector<std::string> args = {obj.string(), "--scale",  "1",
+                                         "--fail-max", "10",       "-o",
+                                         out.string(), "--report", report.string()};
+  auto run = run_tool("legolize", args);
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find("supports: 1 column of 5 bricks in Medium_Azure (322)"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("as the submodel table-supports.ldr"), std::string::npos) << run.out;
+  const auto json = read_json(report);
+  EXPECT_GE(json["supports"]["columns"].get<int>(), 1);
+  EXPECT_EQ(json["supports"]["color"], 322);
+  EXPECT_EQ(json["pieces"][0]["supports"]["bricks"], json["supports"]["bricks"]);
+  EXPECT_GT(json["cm_gf_final"].get<double>(), 0);
+  // The supports are the first step's submodel, every brick of it in the support colour.
+  const ldraw::Model model = ldraw::read_file(out);
+  ASSERT_FALSE(model.steps.empty());
+  int supports = 0;
+  for (const auto& p : model.parts)
+    if (p.submodel == "table-supports.ldr") {
+      ++supports;
+      EXPECT_EQ(p.color, 322);
+      EXPECT_EQ(p.step, 1);
+    }
+  EXPECT_EQ(supports, json["supports"]["bricks"].get<int>());
+  auto check = run_tool("brickcheck", {out.string(), "--steps"});
+  EXPECT_EQ(check.exit_code, 0) << check.out;
+  // Another colour on request; none at all: the model falls.
+  run = run_tool("legolize", {obj.string(), "--scale", "1", "--fail-max", "10", "-o", out.string(),
+                              "--support-color", "14", "--quiet"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_GT(colours_of(out)[14], 0);
+  run = run_tool("legolize", {obj.string(), "--scale", "1", "--fail-max", "10", "-o", out.string(),
+                              "--no-supports", "--no-step-analysis", "--quiet"});
+  EXPECT_EQ(run.exit_code, 1) << run.out;
+  EXPECT_EQ(run.out.find("supports:"), std::string::npos) << run.out;
+  EXPECT_EQ(colours_of(out).count(322), 0u);
+  // A refinement stopped by its time limit says so; supports take over from there.
+  run = run_tool("legolize",
+                 {obj.string(), "--scale", "1", "--refine-seconds", "0.001", "-o", out.string(),
+                  "--report", report.string(), "--no-step-analysis", "--quiet"});
+  EXPECT_EQ(run.exit_code, 0) << run.out;
+  EXPECT_NE(run.out.find("(the refinement stopped at --refine-seconds 0.001)"), std::string::npos)
+      << run.out;
+  EXPECT_TRUE(read_json(report)["refine_out_of_time"].get<bool>());
+  EXPECT_GT(read_json(report)["supports"]["columns"].get<int>(), 0);
+  run = run_tool("legolize", {obj.string(), "-o", out.string(), "--support-color", "9999"});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("--support-color: 9999 is not in the colour table"), std::string::npos)
+      << run.err;
+}
+
 TEST(LegolizeMeshes, OutputsAreCheckedBeforeAnyWork) {
   const fs::path obj = scratch("cube.obj");
   std::ofstream(obj) << obj_box(0, 0, 0, 8, 8, 8, 1);

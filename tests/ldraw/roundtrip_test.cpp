@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 #include <fstream>
@@ -61,6 +62,39 @@ TEST(RoundTrip, LdrAndMpdGiveBackTheSameBricks) {
       EXPECT_TRUE(same_bricks(a, back.assembly)) << "seed " << seed << " mpd " << mpd;
       for (const Brick& b : back.assembly.bricks) EXPECT_GE(b.source.step, 1);
     }
+  }
+}
+
+// Supports (Brick::support) are the step-1 submodel "<name>-supports.ldr" of an .mpd, and a
+// LeoCAD group of their own in an .ldr, with words that say what they are; read back, the same
+// bricks in the same steps.
+TEST(RoundTrip, SupportsAreASubmodelOrAGroupOfTheirOwn) {
+  Assembly a = random_assembly(4);
+  for (size_t i = 0; i < 10; ++i) a.bricks[i].support = true;  // step 1
+  for (bool mpd : {false, true}) {
+    WriteOptions options;
+    options.name = mpd ? "rt.mpd" : "rt.ldr";
+    const std::string text = mpd ? to_mpd(a, options) : to_ldr(a, options);
+    EXPECT_NE(text.find("0 // Supports: columns that are not the model's"), std::string::npos);
+    if (mpd) {
+      EXPECT_NE(text.find("1 16 0 0 0 1 0 0 0 1 0 0 0 1 rt-supports.ldr\n0 STEP\n"),
+                std::string::npos);
+      EXPECT_NE(text.find("0 FILE rt-supports.ldr\n"), std::string::npos);
+      EXPECT_NE(text.find("rt-step-002.ldr"), std::string::npos) << "steps keep their numbers";
+    } else {
+      const size_t begin = text.find("0 !LEOCAD GROUP BEGIN Supports\n");
+      const size_t end = text.find("0 !LEOCAD GROUP END\n");
+      ASSERT_NE(begin, std::string::npos);
+      ASSERT_NE(end, std::string::npos);
+      const std::string group = text.substr(begin, end - begin);
+      EXPECT_EQ(std::count(group.begin(), group.end(), '\n'), 11) << group;  // 10 bricks
+      EXPECT_EQ(group.find("STEP"), std::string::npos);
+    }
+    Model m = read_text(text, options.name);
+    ASSERT_FALSE(m.has_errors());
+    EXPECT_EQ(m.steps.size(), 4u);
+    parts::PartLibrary library({}, BrickCatalog::standard());
+    EXPECT_TRUE(same_bricks(a, parts::to_assembly(m, library).assembly));
   }
 }
 

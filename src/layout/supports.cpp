@@ -1,0 +1,207 @@
+#include "layout/supports.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <thread>
+
+#include "core/stopwatch.h"
+#include "layout/refine.h"
+#include "physics/interior_point.h"
+
+namespace lego::layout {
+namespace {
+
+// Per column (x, z) of the grid: the lowest layer with a voxel (the model's or a support's), or
+// -1 when there is none.
+std::vector<int> bottoms(const Target& t) {
+  std::vector<int> out(size_t(t.width) * t.depth, -1);
+  for (int z = 0; z < t.depth; ++z)
+    for (int x = 0; x < t.width; ++x)
+      for (int y = 0; y < t.height; ++y)
+        if (t.at(x, y, z) != kEmpty) {
+          out[size_t(z) * t.width + x] = y;
+          break;
+        }
+  return out;
+}
+
+// Every column that fits: its footprint's cells empty from the ground up to the model, which
+// hangs over at least one of them; none touching a support already there (one is enough in a
+// place, and columns apart hold more).
+std::vector<SupportColumn> possible_columns(const Layout& layout) {
+  const Target& t = layout.target();
+  const std::vector<int> bottom = bottoms(t);
+  auto bottom_at = [&](int x, int z) { return bottom[size_t(z) * t.width + x]; };
+  auto near_support = [&](const SupportColumn& c) {
+    for (int z = c.z - 1; z <= c.z + c.size_z; ++z)
+      for (int x = c.x - 1; x <= c.x + c.size_x; ++x)
+        if (t.at(x, 0, z) == kSupport) return true;
+    return false;
+  };
+  std::vector<SupportColumn> out;
+  for (const auto& [sx, sz] : {std::pair{2, 2}, std::pair{1, 1}})
+    for (int z = 0; z + sz <= t.depth; ++z)
+      for (int x = 0; x + sx <= t.width; ++x) {
+        int top = -1;  // the lowest model voxel over the footprint
+        bool ground_free = true;
+        for (int dz = 0; dz < sz; ++dz)
+          for (int dx = 0; dx < sx; ++dx) {
+            const int b = bottom_at(x + dx, z + dz);
+            if (b == 0) ground_free = false;
+            if (b > 0) top = top < 0 ? b : std::min(top, b);
+          }
+        SupportColumn c{x, z, sx, sz, top};
+        if (ground_free && top > 0 && !near_support(c)) out.push_back(c);
+      }
+  return out;
+}
+
+// The layout bricks the analysis names as where the model fails: those no forces balance, else
+// the upper ends of its weakest contacts, weakest first, each once.
+std::vector<int> weak_places(const physics::StabilityResult& r, const LayoutAssembly& la) {
+  std::vector<int> bricks;
+  if (r.status == physics::StabilityStatus::NoEquilibrium)
+    bricks = r.unbalanced;
+  else if (r.status == physics::StabilityStatus::Solved)
+    for (const physics::WeakContact& w : r.weakest) bricks.push_back(w.upper);
+  std::vector<int> out;
+  for (int b : bricks)
+    if (b >= 0 && size_t(b) < la.layout_id.size() &&
+        std::find(out.begin(), out.end(), la.layout_id[size_t(b)]) == out.end())
+      out.push_back(la.layout_id[size_t(b)]);
+  return out;
+}
+
+// The columns tried for one weak place: those nearest below it (the load it fails under comes
+// through it), and those nearest below the centre of the mass at its layer and above (what hangs
+// on it, when it is the root of an overhang), `each` of both, larger footprints first among
+// equally near ones.
+std::vector<SupportColumn> columns_to_try(const Layout& layout,
+                                          const std::vector<SupportColumn>& possible,
+                                          const LayoutBrick& weak, int each) {
+  double mx = 0, mz = 0, mass = 0;
+  for (int id : layout.brick_ids()) {
+    const LayoutBrick& b = layout.brick(id);
+    if (b.y < weak.y || b.color == kSupport) continue;
+    mx += (b.x + b.size_x / 2.0) * b.voxels();
+    mz += (b.z + b.size_z / 2.0) * b.voxels();
+    mass += b.voxels();
+  }
+  std::vector<std::pair<double, double>> centres = {
+      {weak.x + weak.size_x / 2.0, weak.z + weak.size_z / 2.0}};
+  if (mass > 0) centres.push_back({mx / mass, mz / mass});
+  std::vector<SupportColumn> out;
+  for (const auto& [cx, cz] : centres) {
+    auto distance = [&](const SupportColumn& c) {
+      return std::hypot(c.x + c.size_x / 2.0 - cx, c.z + c.size_z / 2.0 - cz);
+    };
+    std::vector<SupportColumn> nearest = possible;
+    std::stable_sort(nearest.begin(), nearest.end(),
+                     [&](const SupportColumn& a, const SupportColumn& b) {
+                       const double da = distance(a), db = distance(b);
+                       if (std::abs(da - db) > 0.5) return da < db;
+                       return a.size_x * a.size_z > b.size_x * b.size_z;
+                     });
+    int taken = 0;
+    for (const SupportColumn& c : nearest) {
+      if (taken == each) break;
+      const bool seen = std::any_of(out.begin(), out.end(), [&](const SupportColumn& d) {
+        return d.x == c.x && d.z == c.z && d.size_x == c.size_x && d.size_z == c.size_z;
+      });
+      if (seen) continue;
+      out.push_back(c);
+      ++taken;
+    }
+  }
+  return out;
+}
+
+void build_column(Layout& layout, const SupportColumn& c) {
+  for (int y = 0; y < c.layers; ++y)
+    layout.grow(LayoutBrick{
+        .x = c.x, .y = y, .z = c.z, .size_x = c.size_x, .size_z = c.size_z, .color = kSupport});
+}
+
+}  // namespace
+
+SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
+                           const physics::StabilityResult& current, const SupportOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  const physics::OneBlasThreadEach blas_threads(o.side_by_side);
+  SupportResult out;
+  out.final = current;
+  auto assemble = [&](const Layout& l) {
+    return to_assembly(l, catalog, o.inside_color, o.loads, o.support_color);
+  };
+  LayoutAssembly la = assemble(layout);
+  out.stable = out.final.stable(o.min_cm_gf);
+  while (!out.stable && int(out.columns.size()) < o.max_columns) {
+    const double cm = comparable_cm_gf(out.final);
+    const std::vector<int> places = weak_places(out.final, la);
+    const std::vector<SupportColumn> possible = possible_columns(layout);
+    bool kept = false;
+    for (size_t p = 0; p < places.size() && int(p) < o.weak_places_per_round && !kept; ++p) {
+      if (seconds_since(start) > o.max_seconds) {
+        out.out_of_time = true;
+        return out;
+      }
+      const std::vector<SupportColumn> tried =
+          columns_to_try(layout, possible, layout.brick(places[p]), o.tries_per_place);
+      struct Trial {
+        Layout layout;
+        LayoutAssembly la;
+        physics::StabilityResult result;
+      };
+      std::vector<std::optional<Trial>> trials(tried.size());
+      auto run = [&](size_t k) {
+        Trial t{layout, {}, {}};
+        build_column(t.layout, tried[k]);
+        t.la = assemble(t.layout);
+        t.result = physics::analyze_stability(t.la.assembly, o.stability);
+        trials[k] = std::move(t);
+      };
+      for (size_t k = 0; k < tried.size(); k += o.side_by_side ? 2 : 1) {
+        if (o.side_by_side && k + 1 < tried.size()) {
+          std::thread second(run, k + 1);
+          run(k);
+          second.join();
+        } else {
+          run(k);
+        }
+      }
+      out.analyses += int(tried.size());
+      // The best column: the largest C_M, or as good with this weak place no longer the weakest
+      // (two legs as weak as each other: the first column moves the weakest to the other, the
+      // second raises C_M). The first of equals, so that the result does not depend on threads.
+      std::optional<size_t> best;
+      double best_cm = -std::numeric_limits<double>::infinity();
+      for (size_t k = 0; k < trials.size(); ++k) {
+        const double now = comparable_cm_gf(trials[k]->result);
+        const std::vector<int> still = weak_places(trials[k]->result, trials[k]->la);
+        const bool moved =
+            std::isfinite(now) && now >= cm - 1e-9 && (still.empty() || still.front() != places[p]);
+        if ((now > cm + 1e-9 || moved) && (!best || now > best_cm + 1e-9)) {
+          best = k;
+          best_cm = now;
+        }
+      }
+      if (!best) continue;
+      Trial& t = *trials[*best];
+      layout = std::move(t.layout);
+      la = std::move(t.la);
+      out.final = std::move(t.result);
+      out.columns.push_back(tried[*best]);
+      out.voxels += size_t(tried[*best].layers * tried[*best].size_x * tried[*best].size_z);
+      out.stable = out.final.stable(o.min_cm_gf);
+      kept = true;
+      if (o.progress) o.progress(int(out.columns.size()), comparable_cm_gf(out.final));
+    }
+    if (!kept) break;
+  }
+  return out;
+}
+
+}  // namespace lego::layout

@@ -1,0 +1,58 @@
+#pragma once
+// Supports: what the paper leaves for future work (section 8). Where the refined layout still
+// cannot stand as asked (thin legs under a heavy body, an overhang), columns of bricks rise from
+// the ground to what hangs, in a colour of their own (kSupport voxels, built in the support
+// colour). A column is only where the cells under the model are empty down to the ground, so that
+// it can be built first, standing on its own, and the model around and on it.
+//
+// Where they go is what the analysis says: each round takes the brick the weakest contacts hold
+// (or one that no forces balance), tries the columns nearest below it and nearest below the centre
+// of the mass at its height and above, and keeps the one that raises C_M most (the next weak
+// place when none does). Rounds go on until the model stands, no column helps, or a limit is
+// reached. The result does not depend on `side_by_side`.
+#include <functional>
+#include <vector>
+
+#include "core/brick_catalog.h"
+#include "layout/layout.h"
+#include "layout/to_assembly.h"
+#include "physics/stability.h"
+
+namespace lego::layout {
+
+struct SupportColumn {
+  int x = 0, z = 0;  // minimum voxel
+  int size_x = 1, size_z = 1;
+  int layers = 0;  // from layer 0 up to the model: layers 0 .. layers-1
+};
+
+struct SupportOptions {
+  physics::StabilityOptions stability;
+  Loads loads;
+  int inside_color = 72;
+  int support_color = kDefaultSupportColor;
+  double min_cm_gf = 0;           // the model stands when C_M / g exceeds this
+  int max_columns = 48;           // columns at most
+  int tries_per_place = 3;        // columns tried per weak place, nearest it and its load's centre
+  int weak_places_per_round = 3;  // weak places tried in a round before giving up
+  bool side_by_side = true;       // two analyses at once, one thread each
+  double max_seconds = 300;       // stop adding after this long
+  // After every column kept: the columns so far and the model's C_M / g; may be empty.
+  std::function<void(int columns, double cm_gf)> progress;
+};
+
+struct SupportResult {
+  std::vector<SupportColumn> columns;  // as added, in the layout
+  size_t voxels = 0;                   // support voxels added
+  physics::StabilityResult final;      // of the layout with the columns
+  bool stable = false;                 // final C_M / g > min_cm_gf
+  int analyses = 0;
+  bool out_of_time = false;
+};
+
+// Adds columns to `layout` (a single-connected layout; `current` is its analysis) until it stands.
+// Columns that do not raise C_M are not kept; when none helps the layout is as it was.
+SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
+                           const physics::StabilityResult& current, const SupportOptions& options);
+
+}  // namespace lego::layout
