@@ -120,6 +120,9 @@ fs::path piece_file(const fs::path& path, int piece) {
 struct PieceResult;
 std::string describe_brick(const PieceResult& piece, int brick);
 
+// Rounds of supports for build steps that fall, each followed by a new build order.
+constexpr int kStepSupportRounds = 3;
+
 // How every piece is converted: the options the user gave, shared by all pieces.
 struct PieceSettings {
   const BrickCatalog* catalog = nullptr;
@@ -216,20 +219,17 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
                         out.supports.out_of_time ? ", out of time" : ""));
     out.seconds_supports = seconds_since(t);
   }
-  out.la = layout::to_assembly(lay, *s.catalog, s.refine.inside_color, s.refine.loads,
-                               s.refine.support_color);
-  for (const Brick& b : out.la.assembly.bricks) out.support_bricks += b.support;
+  auto assemble = [&] {
+    out.la = layout::to_assembly(lay, *s.catalog, s.refine.inside_color, s.refine.loads,
+                                 s.refine.support_color);
+    out.support_bricks = 0;
+    for (const Brick& b : out.la.assembly.bricks) out.support_bricks += b.support;
+  };
+  assemble();
   if (!refining) {
     out.refined.initial = out.refined.final =
         physics::analyze_stability(out.la.assembly, s.refine.stability);
     out.stable = out.stable && out.refined.final.stable(s.min_cm);
-  }
-  if (!out.stable && out.bottleneck.empty()) {
-    const auto& f = out.refined.final;
-    out.bottleneck = f.weakest.empty()
-                         ? std::string(physics::to_string(f.status))
-                         : describe_brick(out, f.weakest.front().lower) + " holding " +
-                               describe_brick(out, f.weakest.front().upper);
   }
   // What this piece uses is not there for the next (after the refinement, which may change it).
   s.rules->limits.use_up(lay);
@@ -238,6 +238,60 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
   layout::BuildOrderOptions order = s.order;
   order.describe = [&out](int brick) { return describe_brick(out, brick); };
   out.order = layout::plan_build_order(out.la.assembly, order);
+  // A step that falls gets supports too: columns under its weak place, judged on that step, and
+  // the order planned again. The finished model only gains by them.
+  for (int round = 0; round < kStepSupportRounds && refining && s.add_supports && s.order.analyse &&
+                      !out.order.all_stand();
+       ++round) {
+    t = Clock::now();
+    const auto falls = std::find_if(out.order.steps.begin(), out.order.steps.end(),
+                                    [](const layout::BuildStep& st) { return !st.stands; });
+    const int k = int(falls - out.order.steps.begin()) + 1;
+    layout::PlacedBricks step;
+    step.placed.assign(lay.id_limit(), 0);
+    for (size_t i = 0; i < out.la.assembly.bricks.size(); ++i)
+      if (out.order.step_of[i] <= k) step.placed[size_t(out.la.layout_id[i])] = 1;
+    s.stage(fmt::format("adding supports under step {}, which falls", k));
+    const auto judged = layout::to_assembly(layout::placed_only(lay, step), *s.catalog,
+                                            s.refine.inside_color, {}, s.refine.support_color);
+    const layout::SupportResult added = layout::add_supports(
+        lay, *s.catalog, physics::analyze_stability(judged.assembly, s.order.stability), s.supports,
+        step);
+    s.stage(fmt::format("supports under step {}: {} column{} ({:.2f} s)", k, added.columns.size(),
+                        added.columns.size() == 1 ? "" : "s", seconds_since(t)));
+    if (added.columns.empty()) break;
+    out.supports.columns.insert(out.supports.columns.end(), added.columns.begin(),
+                                added.columns.end());
+    out.supports.voxels += added.voxels;
+    out.supports.analyses += added.analyses;
+    assemble();
+    out.refined.final = physics::analyze_stability(out.la.assembly, s.refine.stability);
+    out.stable = out.refined.final.stable(s.min_cm);
+    out.seconds_supports += seconds_since(t);
+    out.order = layout::plan_build_order(out.la.assembly, order);
+  }
+  // Where it fails, as a builder finds it: the brick, its voxel (as --load names it) and the step
+  // that places it.
+  if (!out.stable && out.bottleneck.empty()) {
+    const auto& f = out.refined.final;
+    auto placed = [&](int brick) {
+      return brick < 0 ? describe_brick(out, brick)
+                       : fmt::format("{} (step {})", describe_brick(out, brick),
+                                     out.order.step_of[size_t(brick)]);
+    };
+    if (!f.weakest.empty()) {
+      out.bottleneck =
+          placed(f.weakest.front().lower) + " holding " + placed(f.weakest.front().upper);
+    } else if (!f.unbalanced.empty()) {
+      std::vector<std::string> shown;
+      for (size_t k = 0; k < std::min<size_t>(f.unbalanced.size(), 3); ++k)
+        shown.push_back(placed(f.unbalanced[k]));
+      out.bottleneck = named_few(shown, f.unbalanced.size()) + ": no forces hold " +
+                       (f.unbalanced.size() == 1 ? "it" : "them") + " up (tipping or hanging)";
+    } else {
+      out.bottleneck = physics::to_string(f.status);
+    }
+  }
   const std::vector<int> moved = layout::apply_build_order(out.la.assembly, out.order);
   std::vector<int> layout_id(moved.size());
   for (size_t k = 0; k < moved.size(); ++k) layout_id[k] = out.la.layout_id[size_t(moved[k])];

@@ -29,20 +29,13 @@ std::vector<int> bottoms(const Target& t) {
 }
 
 // Every column that fits: its footprint's cells empty from the ground up to the model, which
-// hangs over at least one of them; none touching a support already there (one is enough in a
-// place, and columns apart hold more).
+// hangs over at least one of them (a support already there fills its cells from the ground).
 std::vector<SupportColumn> possible_columns(const Layout& layout) {
   const Target& t = layout.target();
   const std::vector<int> bottom = bottoms(t);
   auto bottom_at = [&](int x, int z) { return bottom[size_t(z) * t.width + x]; };
-  auto near_support = [&](const SupportColumn& c) {
-    for (int z = c.z - 1; z <= c.z + c.size_z; ++z)
-      for (int x = c.x - 1; x <= c.x + c.size_x; ++x)
-        if (t.at(x, 0, z) == kSupport) return true;
-    return false;
-  };
   std::vector<SupportColumn> out;
-  for (const auto& [sx, sz] : {std::pair{2, 2}, std::pair{1, 1}})
+  for (const auto& [sx, sz] : {std::pair{2, 2}, std::pair{2, 1}, std::pair{1, 2}, std::pair{1, 1}})
     for (int z = 0; z + sz <= t.depth; ++z)
       for (int x = 0; x + sx <= t.width; ++x) {
         int top = -1;  // the lowest model voxel over the footprint
@@ -54,7 +47,7 @@ std::vector<SupportColumn> possible_columns(const Layout& layout) {
             if (b > 0) top = top < 0 ? b : std::min(top, b);
           }
         SupportColumn c{x, z, sx, sz, top};
-        if (ground_free && top > 0 && !near_support(c)) out.push_back(c);
+        if (ground_free && top > 0) out.push_back(c);
       }
   return out;
 }
@@ -75,10 +68,10 @@ std::vector<int> weak_places(const physics::StabilityResult& r, const LayoutAsse
   return out;
 }
 
-// The columns tried for one weak place: those nearest below it (the load it fails under comes
-// through it), and those nearest below the centre of the mass at its layer and above (what hangs
-// on it, when it is the root of an overhang), `each` of both, larger footprints first among
-// equally near ones.
+// The columns tried for one weak place: those whose tops are nearest to it (the load it fails
+// under comes through it; a layer is 1.2 studs tall), and those nearest below the centre of the
+// mass at its layer and above (what hangs on it, when it is the root of an overhang), `each` of
+// both, larger footprints first among equally near ones.
 std::vector<SupportColumn> columns_to_try(const Layout& layout,
                                           const std::vector<SupportColumn>& possible,
                                           const LayoutBrick& weak, int each) {
@@ -90,13 +83,17 @@ std::vector<SupportColumn> columns_to_try(const Layout& layout,
     mz += (b.z + b.size_z / 2.0) * b.voxels();
     mass += b.voxels();
   }
-  std::vector<std::pair<double, double>> centres = {
-      {weak.x + weak.size_x / 2.0, weak.z + weak.size_z / 2.0}};
-  if (mass > 0) centres.push_back({mx / mass, mz / mass});
+  struct Centre {
+    double x, z;
+    std::optional<int> layer;  // the height that counts, if any
+  };
+  std::vector<Centre> centres = {{weak.x + weak.size_x / 2.0, weak.z + weak.size_z / 2.0, weak.y}};
+  if (mass > 0) centres.push_back({mx / mass, mz / mass, std::nullopt});
   std::vector<SupportColumn> out;
-  for (const auto& [cx, cz] : centres) {
+  for (const Centre& centre : centres) {
     auto distance = [&](const SupportColumn& c) {
-      return std::hypot(c.x + c.size_x / 2.0 - cx, c.z + c.size_z / 2.0 - cz);
+      const double up = centre.layer ? 1.2 * (c.layers - *centre.layer) : 0.0;
+      return std::hypot(c.x + c.size_x / 2.0 - centre.x, c.z + c.size_z / 2.0 - centre.z, up);
     };
     std::vector<SupportColumn> nearest = possible;
     std::stable_sort(nearest.begin(), nearest.end(),
@@ -127,18 +124,59 @@ void build_column(Layout& layout, const SupportColumn& c) {
 
 }  // namespace
 
+Layout placed_only(const Layout& layout, const PlacedBricks& step) {
+  Layout out = layout;
+  for (int id : layout.brick_ids())
+    if (layout.brick(id).color != kSupport &&
+        (size_t(id) >= step.placed.size() || !step.placed[size_t(id)]))
+      out.remove(id);
+  return out;
+}
+
 SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
                            const physics::StabilityResult& current, const SupportOptions& o) {
+  return add_supports(layout, catalog, current, o, PlacedBricks{});
+}
+
+SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
+                           const physics::StabilityResult& current, const SupportOptions& o,
+                           const PlacedBricks& step) {
+  const bool whole = step.placed.empty();
   const auto start = std::chrono::steady_clock::now();
   const physics::OneBlasThreadEach blas_threads(o.side_by_side);
   SupportResult out;
   out.final = current;
+  // The model judged: all of it with its loads, or a build step's bricks without them.
   auto assemble = [&](const Layout& l) {
-    return to_assembly(l, catalog, o.inside_color, o.loads, o.support_color);
+    return whole ? to_assembly(l, catalog, o.inside_color, o.loads, o.support_color)
+                 : to_assembly(placed_only(l, step), catalog, o.inside_color, {}, o.support_color);
   };
   LayoutAssembly la = assemble(layout);
   out.stable = out.final.stable(o.min_cm_gf);
-  while (!out.stable && int(out.columns.size()) < o.max_columns) {
+  // As it was after the last column that raised C_M. Columns that only move the weakest place
+  // elsewhere are kept while a next one may raise it (two legs as weak as each other), at most
+  // kMoves in a row, and taken back when none does.
+  constexpr int kMoves = 3;
+  constexpr double kGainGf = 0.01;  // less is not worth a column
+  struct Gain {
+    Layout layout;
+    LayoutAssembly la;
+    physics::StabilityResult result;
+    size_t columns = 0, voxels = 0;
+  };
+  std::optional<Gain> gain;
+  int moves = 0;
+  auto take_back_moves = [&] {
+    if (moves == 0 || !gain) return;
+    layout = std::move(gain->layout);
+    la = std::move(gain->la);
+    out.final = std::move(gain->result);
+    out.columns.resize(gain->columns);
+    out.voxels = gain->voxels;
+    out.stable = out.final.stable(o.min_cm_gf);
+  };
+  if (!out.stable) gain = Gain{layout, la, out.final, 0, 0};
+  while (!out.stable && int(out.columns.size()) < o.max_columns && moves <= kMoves) {
     const double cm = comparable_cm_gf(out.final);
     const std::vector<int> places = weak_places(out.final, la);
     const std::vector<SupportColumn> possible = possible_columns(layout);
@@ -146,6 +184,7 @@ SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
     for (size_t p = 0; p < places.size() && int(p) < o.weak_places_per_round && !kept; ++p) {
       if (seconds_since(start) > o.max_seconds) {
         out.out_of_time = true;
+        take_back_moves();
         return out;
       }
       const std::vector<SupportColumn> tried =
@@ -173,9 +212,8 @@ SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
         }
       }
       out.analyses += int(tried.size());
-      // The best column: the largest C_M, or as good with this weak place no longer the weakest
-      // (two legs as weak as each other: the first column moves the weakest to the other, the
-      // second raises C_M). The first of equals, so that the result does not depend on threads.
+      // The best column: the largest C_M, or as good with this weak place no longer the weakest.
+      // The first of equals, so that the result does not depend on threads.
       std::optional<size_t> best;
       double best_cm = -std::numeric_limits<double>::infinity();
       for (size_t k = 0; k < trials.size(); ++k) {
@@ -197,10 +235,17 @@ SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
       out.voxels += size_t(tried[*best].layers * tried[*best].size_x * tried[*best].size_z);
       out.stable = out.final.stable(o.min_cm_gf);
       kept = true;
+      if (best_cm > cm + kGainGf) {
+        moves = 0;
+        gain = Gain{layout, la, out.final, out.columns.size(), out.voxels};
+      } else {
+        ++moves;
+      }
       if (o.progress) o.progress(int(out.columns.size()), comparable_cm_gf(out.final));
     }
     if (!kept) break;
   }
+  take_back_moves();
   return out;
 }
 

@@ -55,4 +55,18 @@ struct SupportResult {
 SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
                            const physics::StabilityResult& current, const SupportOptions& options);
 
+// The layout's bricks up to a build step: `placed` per layout id (ids past its end are not
+// placed), supports always.
+struct PlacedBricks {
+  std::vector<char> placed;
+};
+// add_supports for what stands after a build step: the columns fit the finished model, and are
+// judged on the placed bricks and the supports (`current` is their analysis, without loads).
+SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
+                           const physics::StabilityResult& current, const SupportOptions& options,
+                           const PlacedBricks& step);
+
+// The layout as it stands when only `step`'s bricks (and the supports) are placed.
+Layout placed_only(const Layout& layout, const PlacedBricks& step);
+
 }  // namespace lego::layout

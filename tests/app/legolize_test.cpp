@@ -631,6 +631,9 @@ TEST(Legolize, AFailedRefinementIsWrittenAndMarkedUnstable) {
   EXPECT_LT(r["cm_gf_final"].get<double>(), 0);
   EXPECT_EQ(r["iterations"].get<int>(), 3);
   EXPECT_NE(r["bottleneck"].get<std::string>().find("holding"), std::string::npos);
+  // Named as a builder finds it: its voxel and the step that places it.
+  EXPECT_NE(r["bottleneck"].get<std::string>().find(" at voxel "), std::string::npos);
+  EXPECT_NE(r["bottleneck"].get<std::string>().find(" (step "), std::string::npos);
   EXPECT_NE(run.out.find("UNSTABLE"), std::string::npos);
   EXPECT_NE(run.out.find("weakest: "), std::string::npos);
 }

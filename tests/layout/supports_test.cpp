@@ -81,6 +81,37 @@ TEST(Supports, AnOverhangGetsColumnsFromTheGroundAndStands) {
     EXPECT_EQ(plan.step_of[i] == 1, la.assembly.bricks[i].support) << i;
 }
 
+// A build step is judged on its own bricks: the slab and its corner post are placed, the post
+// under the far corner not yet. A column holds the step up; it fits the finished model (not where
+// the second post will be), and the finished model stands with it as well.
+TEST(Supports, AStepThatFallsIsJudgedOnItsOwnBricks) {
+  Target model = table_on_one_leg(14, 5, 3);
+  for (int y = 0; y < 5; ++y)
+    for (int z = 12; z < 14; ++z)
+      for (int x = 12; x < 14; ++x) model.set(x, y, z, 4);
+  Layout l = initialized(model);
+  const BrickCatalog& catalog = BrickCatalog::standard();
+  ASSERT_TRUE(physics::analyze_stability(to_assembly(l, catalog, 72).assembly).stable());
+  PlacedBricks step;
+  step.placed.assign(l.id_limit(), 0);
+  for (int id : l.brick_ids()) {
+    const LayoutBrick& b = l.brick(id);
+    step.placed[size_t(id)] = !(b.y < 5 && b.x >= 12 && b.z >= 12);
+  }
+  const auto judged = to_assembly(placed_only(l, step), catalog, 72);
+  EXPECT_LT(judged.assembly.bricks.size(), l.brick_count());
+  const auto before = physics::analyze_stability(judged.assembly);
+  ASSERT_FALSE(before.stable()) << comparable_cm_gf(before);
+  const SupportResult s = add_supports(l, catalog, before, {}, step);
+  ASSERT_FALSE(s.columns.empty());
+  EXPECT_TRUE(s.stable) << comparable_cm_gf(s.final);
+  for (const SupportColumn& c : s.columns)
+    EXPECT_FALSE(c.x + c.size_x > 12 && c.z + c.size_z > 12) << "where the second post goes";
+  EXPECT_TRUE(physics::analyze_stability(to_assembly(l, catalog, 72).assembly).stable());
+  const auto with_columns = to_assembly(placed_only(l, step), catalog, 72);
+  EXPECT_TRUE(physics::analyze_stability(with_columns.assembly).stable());
+}
+
 TEST(Supports, AModelThatStandsGetsNone) {
   Target cube(4, 4, 4);
   for (int& c : cube.color) c = 4;
