@@ -17,6 +17,9 @@
 #include <functional>
 #include <map>
 
+#include <sys/wait.h>
+#include <nlohmann/json.hpp>
+
 #include "core/stopwatch.h"
 #include "layout/build_order.h"
 #include "layout/pieces.h"
@@ -231,6 +234,45 @@ report::AuditOptions corpus_options(const fs::path& shared, double max_seconds) 
   options.read.library_dirs = {shared / "ldraw-library"};
   options.stability.max_seconds = max_seconds;
   return options;
+}
+
+// legolize itself, as a user runs it, on meshes at its default height (issue 38: every sculpture
+// stands, or says what it changed): its exit code, whether the model and every build step stand,
+// the supports it added, C_M before and after, and the seconds of the refinement, the supports,
+// the build order and the whole run (one run each: a run takes minutes).
+void legolize_section(const std::vector<std::pair<std::string, fs::path>>& files) {
+  fmt::print(
+      "# legolize at its default height: input exit stable steps_stand support_columns "
+      "support_bricks bricks cm_initial cm_final refine_s supports_s build_order_s "
+      "total_s\n");
+  const fs::path scratch = fs::temp_directory_path() / "legolization-bench-legolize";
+  fs::create_directories(scratch);
+  for (const auto& [name, file] : files) {
+    if (!fs::exists(file)) continue;
+    const fs::path out = scratch / (name + ".mpd"), report = scratch / (name + ".json");
+    const std::string command =
+        fmt::format("'{}' '{}' -o '{}' --report '{}' --quiet > /dev/null 2>&1", LEGOLIZE,
+                    file.string(), out.string(), report.string());
+    const int status = std::system(command.c_str());
+    const int exit = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(report);
+    if (!in) {
+      fmt::print("{} {} - - - - - - - - - - -\n", name, exit);
+      continue;
+    }
+    const nlohmann::json r = nlohmann::json::parse(in);
+    std::map<std::string, double> seconds;
+    for (const auto& [stage, s] : r["seconds"].items()) seconds[stage] = s.get<double>();
+    auto number = [](const nlohmann::json& j) {
+      return j.is_number() ? fmt::format("{:.3f}", j.get<double>()) : std::string("-");
+    };
+    fmt::print("{} {} {} {} {} {} {} {} {} {:.1f} {:.1f} {:.1f} {:.1f}\n", name, exit,
+               r["stable"].get<bool>(),
+               r["steps_stand"].is_boolean() && r["steps_stand"].get<bool>(),
+               r["supports"]["columns"].get<int>(), r["supports"]["bricks"].get<int>(),
+               r["bricks"].get<int>(), number(r["cm_gf_initial"]), number(r["cm_gf_final"]),
+               seconds["refine"], seconds["supports"], seconds["build_order"], seconds["total"]);
+  }
 }
 
 // brickcheck over the Datsville corpus: the share of models with a C_M, of part occurrences
@@ -698,6 +740,25 @@ int main(int argc, char** argv) {
         {"fels-3ds", assimp / "3DS" / "fels.3ds"},
     };
     meshes_section(files, quick ? 16 : 24);
+  }
+  // Only when asked for by name (`--only legolize`, or `--only legolize-duck` for one): ten runs
+  // of minutes each.
+  if (only.rfind("legolize", 0) == 0) {
+    const fs::path assimp = "/usr/share/assimp/models";
+    std::vector<std::pair<std::string, fs::path>> files{
+        {"bunny", bunny},
+        {"spider-obj", assimp / "OBJ" / "spider.obj"},
+        {"spider-fbx", assimp / "FBX" / "spider.fbx"},
+        {"milk-truck-gltf", assimp / "glTF" / "CesiumMilkTruck" / "CesiumMilkTruck.gltf"},
+        {"duck", assimp / "Collada" / "duck.dae"},
+        {"teapots", assimp / "Collada" / "teapots.DAE"},
+        {"earth", assimp / "Collada" / "earthCylindrical.DAE"},
+        {"engine-glb", assimp / "glTF2" / "2CylinderEngine-glTF-Binary" / "2CylinderEngine.glb"},
+        {"human", assimp / "BLEND" / "HUMAN.blend"},
+        {"wuson-stl", assimp / "STL" / "Wuson.stl"},
+    };
+    std::erase_if(files, [&](const auto& f) { return !wanted("legolize-" + f.first); });
+    legolize_section(files);
   }
   if (wanted("hard") || only.find("solid") != std::string::npos ||
       only.find("spider-h20") != std::string::npos || only == "duplicated-parts" ||
