@@ -127,6 +127,7 @@ constexpr int kStepSupportRounds = 3;
 struct PieceSettings {
   const BrickCatalog* catalog = nullptr;
   layout::MergeRules* rules = nullptr;  // its limits are used up piece by piece
+  layout::ColorTrades trades;           // what the refinement may trade (--color-trade)
   layout::RefineOptions refine;
   layout::ConnectOptions connect;
   layout::BuildOrderOptions order;
@@ -151,6 +152,7 @@ struct PieceResult {
   layout::RefineResult refined;  // `final` is the finished piece's analysis (with its supports)
   layout::SupportResult supports;
   size_t support_bricks = 0;
+  layout::ColorChanges colours;  // of the finished layout against its voxels
   bool stable = true, steps_stand = true;
   std::string bottleneck;
   layout::BuildOrder order;
@@ -163,8 +165,11 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
   out.objects = piece.objects;
   out.voxels = piece.voxels;
   auto t = Clock::now();
+  // Colours are traded only where the layout breaks apart or does not stand (--color-trade).
+  layout::MergeRules trading = *s.rules;
+  trading.trades = s.trades;
   layout::JoinedLayout joined =
-      layout::initialize_joined(std::move(piece.target), *s.rules, rng, s.connect);
+      layout::initialize_joined(std::move(piece.target), trading, rng, s.connect);
   out.lay = std::move(joined.layout);
   layout::Layout& lay = *out.lay;
   out.connect = joined.connect;
@@ -193,7 +198,7 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
   const bool refining = out.connect.single && s.refine_layout;
   if (refining) {
     s.stage("refining");
-    out.refined = layout::refine_layout(lay, *s.catalog, *s.rules, rng, s.refine);
+    out.refined = layout::refine_layout(lay, *s.catalog, trading, rng, s.refine);
     out.stable = out.refined.stable;
     s.stage(fmt::format(
         "refined: C_M {} -> {}, {} iterations, {} accepted; {} whole-model analyses, {} "
@@ -307,6 +312,7 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
                                 cm_words(out.order.min_cm_gf()),
                             out.order.analyses, out.order.certified_steps(), out.order.seconds)
               : fmt::format("build order: {} steps, not analysed", out.order.steps.size()));
+  out.colours = layout::color_changes(lay);
   // Where the piece was lowered from: its bricks go back there in the model.
   out.la.assembly.origin_ldu[1] -= out.lift * kPlatesPerBrick * kLduPerPlate;
   return out;
@@ -590,6 +596,7 @@ std::vector<PieceResult> convert_pieces(const Run& run, Plan& p,
   PieceSettings settings;
   settings.catalog = &BrickCatalog::standard();
   settings.rules = &p.rules;
+  settings.trades = layout::ColorTrades::within(p.palette.codes(), o.color_trade);
   settings.refine = p.refine;
   settings.refine_layout = !o.no_refine;
   settings.add_supports = !o.no_supports;
@@ -673,6 +680,11 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
     rep.voxels_added_to_join += r.voxels_added;
     rep.support_columns += int(r.supports.columns.size());
     rep.support_bricks += r.support_bricks;
+    rep.colour_changes.visible += r.colours.visible;
+    rep.colour_changes.changed += r.colours.changed;
+    rep.colour_changes.mean_distance += r.colours.mean_distance * double(r.colours.changed);
+    rep.colour_changes.max_distance =
+        std::max(rep.colour_changes.max_distance, r.colours.max_distance);
     rep.single_connected = rep.single_connected && r.connect.single;
     rep.decided = rep.decided && physics::decided(r.refined.final.status);
     rep.stable = rep.stable && r.stable;
@@ -717,6 +729,8 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
                          : ldraw::piece_submodel_name(fs::path(run.o.output).filename().string(),
                                                       int(k) + 1)});
   }
+  if (rep.colour_changes.changed > 0)
+    rep.colour_changes.mean_distance /= double(rep.colour_changes.changed);
   const PieceResult& weak = results[weakest];
   rep.solver_final = weak.refined.final.stats.solver;
   rep.solver_note_final = weak.refined.final.message;
@@ -778,6 +792,13 @@ void print_summary(const Run& run, const std::vector<PieceResult>& results, size
       seconds_since(run.start));
   if (!rep.solver_note_final.empty())
     std::cout << fmt::format("solver: {} ({})\n", rep.solver_final, rep.solver_note_final);
+  if (const auto& c = rep.colour_changes; c.changed > 0)
+    std::cout << fmt::format(
+        "colours: {} of {} visible voxels ({:.1f}%) built in a nearby colour (CIEDE2000 mean "
+        "{:.1f}, at most {:.1f}){}\n",
+        c.changed, c.visible, 100.0 * double(c.changed) / double(std::max<size_t>(c.visible, 1)),
+        c.mean_distance, c.max_distance,
+        run.o.colors == "soft" ? " (--colors soft)" : ", where that holds the model together");
   if (rep.support_bricks > 0)
     std::cout << fmt::format(
         "supports: {} column{} of {} bricks in {} ({}) added under what hangs, so that it "

@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 
+#include "ldraw/color_table.h"
+#include "voxel/palette.h"
+
 namespace lego::layout {
 
 const Family& standard_family() {
@@ -40,7 +43,7 @@ std::optional<LayoutBrick> merge_of(const Layout& layout, int a, int b, const Me
   if ((ca == kSupport) != (cb == kSupport)) return std::nullopt;
   const bool two_colors = ca != kIgnore && cb != kIgnore && ca != cb;
   if (!two_colors) return rules.limits.allow(layout, *m) ? m : std::nullopt;
-  if (rules.color == ColorRule::Hard) return std::nullopt;
+  if (rules.color == ColorRule::Hard && !rules.trades.allowed(ca, cb)) return std::nullopt;
   LayoutBrick other = *m;
   other.color = cb;
   return rules.limits.allow(layout, *m) || rules.limits.allow(layout, other) ? m : std::nullopt;
@@ -58,6 +61,32 @@ int color_mismatches(const Layout& layout, const LayoutBrick& brick) {
       e += c != kIgnore && c != kEmpty && c != brick.color;
     }
   return e;
+}
+
+ColorChanges color_changes(const Layout& layout) {
+  const auto& table = ldraw::ColorTable::standard();
+  auto lab = [&](int code) {
+    const auto rgb = table.rgb(code);
+    return voxel::to_lab(voxel::from_hex(rgb ? *rgb : 0));
+  };
+  ColorChanges out;
+  double sum = 0;
+  for (int id : layout.brick_ids()) {
+    const LayoutBrick& b = layout.brick(id);
+    for (int z = b.z; z < b.max_z(); ++z)
+      for (int x = b.x; x < b.max_x(); ++x) {
+        const int c = layout.target().at(x, b.y, z);
+        if (c < 0) continue;  // empty, IGNORE or a support: no colour of its own
+        ++out.visible;
+        if (c == b.color || b.color < 0) continue;
+        ++out.changed;
+        const double d = voxel::ciede2000(lab(c), lab(b.color));
+        sum += d;
+        out.max_distance = std::max(out.max_distance, d);
+      }
+  }
+  if (out.changed > 0) out.mean_distance = sum / double(out.changed);
+  return out;
 }
 
 namespace {
@@ -82,7 +111,35 @@ bool choose_color(const Layout& layout, LayoutBrick& m, int ci, int cj, const Me
   return rules.limits.allow(layout, m);
 }
 
+// A colour trade under the hard rule: the colour of more of the brick's voxels (a's on a tie).
+// Returns false when the limits do not allow it.
+bool trade_color(const Layout& layout, LayoutBrick& m, int ci, int cj, const MergeRules& rules) {
+  m.color = ci;
+  const int ei = color_mismatches(layout, m);
+  m.color = cj;
+  const int ej = color_mismatches(layout, m);
+  m.color = ej < ei ? cj : ci;
+  return rules.limits.allow(layout, m);
+}
+
 }  // namespace
+
+ColorTrades ColorTrades::within(const std::vector<int>& codes, double max_distance) {
+  ColorTrades out;
+  if (max_distance <= 0) return out;
+  const auto& table = ldraw::ColorTable::standard();
+  std::vector<std::pair<int, voxel::Lab>> labs;
+  for (int code : codes)
+    if (const auto rgb = table.rgb(code))
+      labs.push_back({code, voxel::to_lab(voxel::from_hex(*rgb))});
+  for (size_t i = 0; i < labs.size(); ++i)
+    for (size_t k = i + 1; k < labs.size(); ++k)
+      if (labs[i].first != labs[k].first &&
+          voxel::ciede2000(labs[i].second, labs[k].second) <= max_distance)
+        out.close.insert(
+            {std::min(labs[i].first, labs[k].first), std::max(labs[i].first, labs[k].first)});
+  return out;
+}
 
 namespace {
 
@@ -169,7 +226,8 @@ size_t random_merge(Layout& layout, std::span<const int> seeds, const MergeRules
       LayoutBrick m = *merged;
       const int ca = layout.brick(a).color, cb = layout.brick(b).color;
       if (ca != kIgnore && cb != kIgnore && ca != cb &&
-          !choose_color(layout, m, ca, cb, rules, rng))
+          !(rules.color == ColorRule::Hard ? trade_color(layout, m, ca, cb, rules)
+                                           : choose_color(layout, m, ca, cb, rules, rng)))
         continue;
       for (int old : {a, b})
         freed_limited |=

@@ -1,7 +1,9 @@
 #pragma once
 // Merging bricks (paper section 4): two bricks merge when their union is a brick of the family
 // and the color assignment rule allows it; Algorithm 4 merges at random until nothing can.
+#include <algorithm>
 #include <optional>
+#include <set>
 #include <span>
 #include <utility>
 #include <vector>
@@ -22,9 +24,21 @@ enum class ColorRule {
   Soft,  // they may, by importance sampling (p_i, p_j), or the merge is discarded (p_d)
 };
 
+// Colours that may stand in for each other under the hard rule: pairs of LDraw codes within a
+// colour distance. legolize gives them to the refinement only: the first layout keeps every colour
+// exact, and the refinement reconfigures only around the weakest contacts, so that colour fidelity
+// is traded only where it breaks structure.
+struct ColorTrades {
+  std::set<std::pair<int, int>> close;  // (a, b) with a < b
+  // Every pair of `codes` within `max_distance` (CIEDE2000, of the colour table's colours).
+  static ColorTrades within(const std::vector<int>& codes, double max_distance);
+  bool allowed(int a, int b) const { return close.contains({std::min(a, b), std::max(a, b)}); }
+};
+
 struct MergeRules {
   ColorRule color = ColorRule::Hard;
-  double w_c = 1;  // soft rule: the weight of discarding; large w_c approaches the hard rule
+  ColorTrades trades;  // hard rule: colours that may merge all the same
+  double w_c = 1;      // soft rule: the weight of discarding; large w_c approaches the hard rule
   Limits limits;
   // How strongly a pop favours pairs that make small bricks: a pair making a brick of area A is
   // drawn with weight A^-small_first. 0 is the paper's uniform pop; 2 leaves a quarter fewer
@@ -52,5 +66,13 @@ size_t random_merge(Layout& layout, std::span<const int> seeds, const MergeRules
 
 // The voxels of `brick` whose target color is a color other than its own.
 int color_mismatches(const Layout& layout, const LayoutBrick& brick);
+
+// How far a layout's colours are from its target's: the visible voxels (those with a colour of
+// their own) and those built in another colour, with the CIEDE2000 distances between the two.
+struct ColorChanges {
+  size_t visible = 0, changed = 0;
+  double mean_distance = 0, max_distance = 0;  // over the changed voxels
+};
+ColorChanges color_changes(const Layout& layout);
 
 }  // namespace lego::layout

@@ -127,8 +127,14 @@ JoinedLayout initialize_joined(Target target, const MergeRules& rules, Random& r
   JoinedLayout out;
   out.layout.emplace(std::move(target));
   Layout& layout = *out.layout;
-  out.connect = initialize_layout(layout, rules, rng, options);
+  // The first layout keeps every colour exact; only where it breaks apart may colours be traded
+  // (MergeRules::trades), around the bricks Algorithm 5 reconfigures.
+  MergeRules exact = rules;
+  exact.trades = {};
+  out.connect = initialize_layout(layout, exact, rng, options);
   out.pieces_before = out.connect.components;
+  if (!out.connect.single && !rules.trades.close.empty())
+    out.connect = connect_components(layout, rules, rng, options);
   ++out.rounds;
   // Bridges go into this layout as 1x1 bricks, and Algorithm 5 goes on from it: the bridges are
   // where the parts meet, so it reconfigures there first, and what it joined stays joined.

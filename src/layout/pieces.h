@@ -39,8 +39,9 @@ struct JoinedLayout {
   int rounds = 0;                // the initialization, then one per round of bridges
 };
 
-// initialize_layout on the target; then, while the result is not one piece and a gap can be
-// bridged, bridges every part that breaks off to a neighbouring part (its smallest bridge: the
+// initialize_layout on the target, with colours exact; where that is not one piece and the rules
+// trade colours, Algorithm 5 with the trades; then, while the result is not one piece and a gap can
+// be bridged, bridges every part that breaks off to a neighbouring part (its smallest bridge: the
 // voxels in the layer above the gap over both sides, in the colour of one side so that a single
 // brick may take them), adds them to the layout as 1x1 bricks and goes on with Algorithm 5
 // (connect_components) from there, at most `max_rounds` times. The added voxels are in the

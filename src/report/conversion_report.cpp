@@ -86,6 +86,10 @@ nlohmann::json to_json(const ConversionReport& r) {
   j["pieces"] = pieces;
   j["pieces_before_joining"] = r.pieces_before_joining;
   j["voxels_added_to_join"] = r.voxels_added_to_join;
+  j["colour_changes"] = {{"visible_voxels", r.colour_changes.visible},
+                         {"changed", r.colour_changes.changed},
+                         {"mean_distance", r.colour_changes.mean_distance},
+                         {"max_distance", r.colour_changes.max_distance}};
   j["supports"] = {{"columns", r.support_columns},
                    {"bricks", r.support_bricks},
                    {"color", r.support_bricks > 0 ? nlohmann::json(r.support_color) : nullptr}};

@@ -51,6 +51,11 @@ struct ConversionReport {
   int support_columns = 0;
   size_t support_bricks = 0;
   int support_color = 0;
+  // Visible voxels built in another colour than theirs (--color-trade, --colors soft), all pieces.
+  struct ColourChanges {
+    size_t visible = 0, changed = 0;
+    double mean_distance = 0, max_distance = 0;  // CIEDE2000, over the changed voxels
+  } colour_changes;
   std::array<int, 3> voxels{0, 0, 0};  // W, H, D
   size_t voxels_filled = 0;
   size_t bricks = 0;

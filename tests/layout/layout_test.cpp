@@ -14,6 +14,7 @@
 #include "layout/to_assembly.h"
 #include "physics/connectivity.h"
 #include "physics/contact_graph.h"
+#include "physics/stability.h"
 #include "test_paths.h"
 
 using namespace lego;
@@ -455,3 +456,46 @@ TEST(Layout, AssemblyTurnsLayersIntoStepsAndKeepsHandedness) {
   loads.at_voxels.push_back({0, 1, 0, 5});
   EXPECT_THROW(to_assembly(l, BrickCatalog::standard(), 72, loads), InputError);
 }
+
+namespace {
+
+// A wall one voxel thick whose voxels alternate between two close colours (Reddish Brown 70 and
+// Dark Brown 308, CIEDE2000 11.3): with exact colours no brick spans two voxels, and the wall is
+// columns of 1x1 bricks that nothing ties, its middle ones hanging in the air. Traded colours join
+// it where it breaks apart, and the colours that changed are counted.
+TEST(Layout, ACheckerboardWallHoldsTogetherByTradingCloseColours) {
+  Target wall(8, 6, 1);  // on two feet: its middle hangs between them
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x)
+      if (y > 0 || x < 2 || x > 5) wall.set(x, y, 0, (x + y) % 2 ? 70 : 308);
+  ConnectOptions connect;
+  connect.ground_connects = true;
+  connect.fail_max = 20;
+  Random exact_rng(1);
+  const JoinedLayout exact = initialize_joined(wall, {}, exact_rng, connect, 0);
+  EXPECT_FALSE(exact.connect.single);
+  EXPECT_EQ(color_changes(*exact.layout).changed, 0u);
+
+  MergeRules rules;
+  rules.trades = ColorTrades::within({70, 308, 4}, 12);
+  ASSERT_TRUE(rules.trades.allowed(308, 70));
+  EXPECT_FALSE(rules.trades.allowed(70, 4)) << "red is no brown";
+  Random rng(1);
+  const JoinedLayout traded = initialize_joined(wall, rules, rng, connect, 0);
+  ASSERT_TRUE(traded.connect.single);
+  EXPECT_EQ(traded.voxels_added, 0u);
+  const ColorChanges c = color_changes(*traded.layout);
+  EXPECT_EQ(c.visible, 44u);
+  EXPECT_GT(c.changed, 0u);
+  EXPECT_LT(c.changed, 24u);
+  EXPECT_NEAR(c.max_distance, 11.3, 0.1);
+  for (int id : traded.layout->brick_ids()) {
+    const int colour = traded.layout->brick(id).color;
+    EXPECT_TRUE(colour == 70 || colour == 308) << colour;
+  }
+  EXPECT_TRUE(
+      physics::analyze_stability(to_assembly(*traded.layout, BrickCatalog::standard(), 72).assembly)
+          .stable());
+}
+
+}  // namespace
