@@ -198,7 +198,11 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
   const bool refining = out.connect.single && s.refine_layout;
   if (refining) {
     s.stage("refining");
-    out.refined = layout::refine_layout(lay, *s.catalog, trading, rng, s.refine);
+    // With supports to come, the refinement takes half its time first; the rest goes to refining
+    // again around the supports, where what still fails is local.
+    layout::RefineOptions first = s.refine;
+    if (s.add_supports) first.max_seconds = s.refine.max_seconds / 2;
+    out.refined = layout::refine_layout(lay, *s.catalog, trading, rng, first);
     out.stable = out.refined.stable;
     s.stage(fmt::format(
         "refined: C_M {} -> {}, {} iterations, {} accepted; {} whole-model analyses, {} "
@@ -223,6 +227,26 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
                         out.supports.analyses, seconds_since(t),
                         out.supports.out_of_time ? ", out of time" : ""));
     out.seconds_supports = seconds_since(t);
+    if (!out.stable && !out.supports.columns.empty() && out.seconds_refine < s.refine.max_seconds) {
+      t = Clock::now();
+      s.stage("refining again, on the supports");
+      layout::RefineOptions again = s.refine;
+      again.max_seconds = s.refine.max_seconds - out.seconds_refine;
+      const layout::RefineResult second =
+          layout::refine_layout(lay, *s.catalog, trading, rng, again);
+      out.refined.final = second.final;
+      out.refined.iterations += second.iterations;
+      out.refined.accepted += second.accepted;
+      out.refined.lp_solves += second.lp_solves;
+      out.refined.rejected_by_bound += second.rejected_by_bound;
+      out.refined.out_of_time = second.out_of_time;
+      out.refined.gave_up = second.gave_up;
+      out.refined.stable = out.stable = second.stable;
+      out.seconds_refine += seconds_since(t);
+      s.stage(fmt::format("refined again: C_M {} -> {}, {} iterations ({:.2f} s)",
+                          analysis_words(second.initial), analysis_words(second.final),
+                          second.iterations, seconds_since(t)));
+    }
   }
   auto assemble = [&] {
     out.la = layout::to_assembly(lay, *s.catalog, s.refine.inside_color, s.refine.loads,
@@ -787,7 +811,8 @@ void print_summary(const Run& run, const std::vector<PieceResult>& results, size
                     : "UNDECIDED",
       rep.iterations, rep.accepted,
       rep.refine_out_of_time
-          ? fmt::format(" (the refinement stopped at --refine-seconds {:g})", run.o.refine_seconds)
+          ? fmt::format(" (the refinement stopped at its time limit, --refine-seconds {:g})",
+                        run.o.refine_seconds)
           : std::string(),
       seconds_since(run.start));
   if (!rep.solver_note_final.empty())

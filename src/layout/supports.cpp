@@ -166,6 +166,8 @@ SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
   };
   std::optional<Gain> gain;
   int moves = 0;
+  constexpr int kWider = 3;  // columns tried per place when the nearest did not help
+  bool widened = false;
   auto take_back_moves = [&] {
     if (moves == 0 || !gain) return;
     layout = std::move(gain->layout);
@@ -181,6 +183,7 @@ SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
     const std::vector<int> places = weak_places(out.final, la);
     const std::vector<SupportColumn> possible = possible_columns(layout);
     bool kept = false;
+    const int tries = widened ? o.tries_per_place * kWider : o.tries_per_place;
     for (size_t p = 0; p < places.size() && int(p) < o.weak_places_per_round && !kept; ++p) {
       if (seconds_since(start) > o.max_seconds) {
         out.out_of_time = true;
@@ -188,7 +191,7 @@ SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
         return out;
       }
       const std::vector<SupportColumn> tried =
-          columns_to_try(layout, possible, layout.brick(places[p]), o.tries_per_place);
+          columns_to_try(layout, possible, layout.brick(places[p]), tries);
       struct Trial {
         Layout layout;
         LayoutAssembly la;
@@ -243,7 +246,9 @@ SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
       }
       if (o.progress) o.progress(int(out.columns.size()), comparable_cm_gf(out.final));
     }
-    if (!kept) break;
+    // Where the nearest columns do not help, once more with more of them before giving up.
+    if (!kept && widened) break;
+    widened = !kept;
   }
   take_back_moves();
   return out;

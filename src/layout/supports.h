@@ -31,9 +31,11 @@ struct SupportOptions {
   Loads loads;
   int inside_color = 72;
   int support_color = kDefaultSupportColor;
-  double min_cm_gf = 0;           // the model stands when C_M / g exceeds this
-  int max_columns = 48;           // columns at most
-  int tries_per_place = 3;        // columns tried per weak place, nearest it and its load's centre
+  double min_cm_gf = 0;  // the model stands when C_M / g exceeds this
+  int max_columns = 48;  // columns at most
+  // Columns tried per weak place, nearest it and nearest its load's centre (three times as many
+  // in a round after one where none helped, before giving up).
+  int tries_per_place = 3;
   int weak_places_per_round = 3;  // weak places tried in a round before giving up
   bool side_by_side = true;       // two analyses at once, one thread each
   double max_seconds = 300;       // stop adding after this long
