@@ -553,6 +553,10 @@ void write_outputs(Run& run, const std::vector<const Assembly*>& assemblies,
   for (report::BookletStep& bs : booklet.steps)
     if (bs.number >= 1 && bs.number <= int(rep.steps.size())) {
       const auto& st = rep.steps[size_t(bs.number - 1)];
+      if (st.supports)
+        bs.note =
+            "Supports, not the model's: build these columns first, on the baseplate. The model "
+            "stands on them; take them away only if it is held otherwise.";
       if (!st.analysed) continue;
       if (std::isfinite(st.cm_gf)) bs.cm_gf = st.cm_gf;
       bs.stands = st.stands;
@@ -731,7 +735,9 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
                            bs.status == physics::StabilityStatus::Solved
                                ? bs.cm_gf
                                : -std::numeric_limits<double>::infinity(),
-                           bs.analysed, bs.stands, bs.why, bs.certified});
+                           bs.analysed, bs.stands, bs.why, bs.certified,
+                           // plan_build_order builds a piece's supports in its first step
+                           r.support_bricks > 0 && &bs == &r.order.steps.front()});
     rep.pieces.push_back(
         {.piece = int(k) + 1,
          .grounded = r.lift == 0,

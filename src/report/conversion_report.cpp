@@ -53,7 +53,8 @@ nlohmann::json to_json(const ConversionReport& r) {
                            {"bricks", s.bricks},
                            {"cm_gf", s.analysed ? number_or_null(s.cm_gf) : nullptr},
                            {"stands", s.analysed ? nlohmann::json(s.stands) : nullptr},
-                           {"certified", s.certified}};
+                           {"certified", s.certified},
+                           {"supports", s.supports}};
     if (!s.why.empty()) step["why"] = s.why;
     steps.push_back(step);
     if (s.analysed) smallest = std::min(smallest, s.cm_gf);

@@ -21,6 +21,7 @@ struct StepReport {
   bool stands = false;
   std::string why;         // when it does not stand
   bool certified = false;  // cm_gf is a certified lower bound (layout::BuildStep::certified)
+  bool supports = false;   // the step builds the supports (layout/supports.h)
 };
 
 // One piece of the model (layout/pieces.h).

@@ -275,6 +275,7 @@ td.count {{ font-weight: bold; text-align: right; }}
           "parts highlighted\" width=\"{}\" height=\"{}\">\n",
           it->second, s.number, kWidth, kHeight);
     out += parts_table(s.parts, b.colors);
+    if (!s.note.empty()) out += fmt::format("<p class=\"note\">{}</p>\n", html_escape(s.note));
     if (s.stands) {
       out += fmt::format("<p class=\"cm\">The model so far: C_M {} {} ({}).</p>\n",
                          s.certified ? "&ge;" : "=", cm_text(s.cm_gf),

@@ -23,6 +23,7 @@ struct BookletStep {
   std::optional<bool> stands;
   bool certified = false;  // cm_gf is a certified lower bound, not the exact C_M
   std::string why;         // when it does not stand
+  std::string note;        // a word for the builder on this step (legolize: the supports)
 };
 
 struct Booklet {

@@ -362,6 +362,9 @@ TEST(LegolizeMeshes, WhatCannotStandGetsSupportsInASubmodelOfTheirOwn) {
   EXPECT_EQ(json["supports"]["color"], 322);
   EXPECT_EQ(json["pieces"][0]["supports"]["bricks"], json["supports"]["bricks"]);
   EXPECT_GT(json["cm_gf_final"].get<double>(), 0);
+  ASSERT_GE(json["steps"].size(), 2u);
+  EXPECT_TRUE(json["steps"][0]["supports"].get<bool>());
+  EXPECT_FALSE(json["steps"][1]["supports"].get<bool>());
   // The supports are the first step's submodel, every brick of it in the support colour.
   const ldraw::Model model = ldraw::read_file(out);
   ASSERT_FALSE(model.steps.empty());
