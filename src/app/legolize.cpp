@@ -260,8 +260,6 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
         physics::analyze_stability(out.la.assembly, s.refine.stability);
     out.stable = out.stable && out.refined.final.stable(s.min_cm);
   }
-  // What this piece uses is not there for the next (after the refinement, which may change it).
-  s.rules->limits.use_up(lay);
   // A building order in which every step stands (the paper's first limitation).
   t = Clock::now();
   layout::BuildOrderOptions order = s.order;
@@ -299,6 +297,9 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
     out.seconds_supports += seconds_since(t);
     out.order = layout::plan_build_order(out.la.assembly, order);
   }
+  // What this piece uses is not there for the next (after the refinement and the supports,
+  // which may change it).
+  s.rules->limits.use_up(lay);
   // Where it fails, as a builder finds it: the brick, its voxel (as --load names it) and the step
   // that places it.
   if (!out.stable && out.bottleneck.empty()) {
@@ -631,6 +632,7 @@ std::vector<PieceResult> convert_pieces(const Run& run, Plan& p,
   settings.supports.stability = p.refine.stability;
   settings.supports.inside_color = p.refine.inside_color;
   settings.supports.support_color = p.refine.support_color;
+  settings.supports.limits = &p.rules.limits;
   settings.supports.min_cm_gf = o.min_cm;
   settings.supports.side_by_side = o.jobs > 1;
   settings.min_cm = o.min_cm;

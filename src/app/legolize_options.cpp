@@ -67,9 +67,9 @@ void add_options(CLI::App& app, LegolizeOptions& o) {
       ->check(CLI::IsMember({"hard", "soft"}))
       ->group(g_layout);
   app.add_option("--color-trade", o.color_trade,
-                 "hard colors: the refinement may build two colors this close (CIEDE2000) in "
-                 "one brick where that holds the model together (default 12, as close as Reddish "
-                 "Brown and Dark Brown; 0: never); the summary says how many voxels changed")
+                 "hard colors: where the layout breaks apart or does not stand, one brick may "
+                 "take two colors this close (CIEDE2000; default 12, as close as Reddish Brown "
+                 "and Dark Brown; 0: never); the summary says how many voxels changed")
       ->check(finite_number(Sign::NonNegative))
       ->group(g_layout);
   app.add_option("--wc", o.w_c, "soft colors: larger keeps colors truer (paper's w_c, default 1)")

@@ -116,10 +116,16 @@ std::vector<SupportColumn> columns_to_try(const Layout& layout,
   return out;
 }
 
-void build_column(Layout& layout, const SupportColumn& c) {
-  for (int y = 0; y < c.layers; ++y)
-    layout.grow(LayoutBrick{
-        .x = c.x, .y = y, .z = c.z, .size_x = c.size_x, .size_z = c.size_z, .color = kSupport});
+// The column's bricks, one per layer; false when the limits (`--limit`, an inventory) do not allow
+// them all.
+bool build_column(Layout& layout, const SupportColumn& c, const Limits* limits) {
+  for (int y = 0; y < c.layers; ++y) {
+    const LayoutBrick b{
+        .x = c.x, .y = y, .z = c.z, .size_x = c.size_x, .size_z = c.size_z, .color = kSupport};
+    if (limits && !limits->allow(layout, b)) return false;
+    layout.grow(b);
+  }
+  return true;
 }
 
 }  // namespace
@@ -200,7 +206,7 @@ SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
       std::vector<std::optional<Trial>> trials(tried.size());
       auto run = [&](size_t k) {
         Trial t{layout, {}, {}};
-        build_column(t.layout, tried[k]);
+        if (!build_column(t.layout, tried[k], o.limits)) return;
         t.la = assemble(t.layout);
         t.result = physics::analyze_stability(t.la.assembly, o.stability);
         trials[k] = std::move(t);
@@ -220,6 +226,7 @@ SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
       std::optional<size_t> best;
       double best_cm = -std::numeric_limits<double>::infinity();
       for (size_t k = 0; k < trials.size(); ++k) {
+        if (!trials[k]) continue;  // beyond the limits
         const double now = comparable_cm_gf(trials[k]->result);
         const std::vector<int> still = weak_places(trials[k]->result, trials[k]->la);
         const bool moved =

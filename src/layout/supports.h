@@ -15,6 +15,7 @@
 
 #include "core/brick_catalog.h"
 #include "layout/layout.h"
+#include "layout/limits.h"
 #include "layout/to_assembly.h"
 #include "physics/stability.h"
 
@@ -31,8 +32,9 @@ struct SupportOptions {
   Loads loads;
   int inside_color = 72;
   int support_color = kDefaultSupportColor;
-  double min_cm_gf = 0;  // the model stands when C_M / g exceeds this
-  int max_columns = 48;  // columns at most
+  const Limits* limits = nullptr;  // what columns may use (its support_color counts them)
+  double min_cm_gf = 0;            // the model stands when C_M / g exceeds this
+  int max_columns = 48;            // columns at most
   // Columns tried per weak place, nearest it and nearest its load's centre (three times as many
   // in a round after one where none helped, before giving up).
   int tries_per_place = 3;

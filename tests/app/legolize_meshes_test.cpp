@@ -388,6 +388,12 @@ TEST(LegolizeMeshes, WhatCannotStandGetsSupportsInASubmodelOfTheirOwn) {
   EXPECT_EQ(run.exit_code, 1) << run.out;
   EXPECT_EQ(run.out.find("supports:"), std::string::npos) << run.out;
   EXPECT_EQ(colours_of(out).count(322), 0u);
+  // Supports keep to the limits: with no brick of the support colour allowed, there are none.
+  run = run_tool("legolize", {obj.string(), "--scale", "1", "--fail-max", "10", "-o", out.string(),
+                              "--limit", "3003@322:0", "--limit", "3004@322:0", "--limit",
+                              "3005@322:0", "--no-step-analysis", "--quiet"});
+  EXPECT_EQ(run.exit_code, 1) << run.out;
+  EXPECT_EQ(colours_of(out).count(322), 0u);
   // A refinement stopped by its time limit says so; supports take over from there.
   run = run_tool("legolize",
                  {obj.string(), "--scale", "1", "--refine-seconds", "0.001", "-o", out.string(),
