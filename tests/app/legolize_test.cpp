@@ -28,6 +28,10 @@ fs::path scratch(const std::string& name) {
   return test::scratch("lego_legolize_", name);
 }
 
+// --refine-seconds for runs whose refinement must take its whole course: the default time limit
+// would end it where a slow machine (or a sanitizer build) happens to be.
+constexpr const char* kUnhurried = "1e6";
+
 // A 12-unit cube whose faces are red (-x), green (+x), blue (-y), yellow (+y), cyan (-z),
 // magenta (+z) as OBJ + MTL.
 fs::path coloured_cube() {
@@ -226,9 +230,9 @@ TEST(Legolize, TableNeedsTheRefinementAndEndsStable) {
   // samples/table.obj with 300 g on its top: the first layout is unstable, the refinement
   // staggers the seams of the span (the numbers below are the sample's headline, seed 1).
   auto out = scratch("table.mpd"), report = scratch("table.json"), parts = scratch("table.csv");
-  auto run = run_tool("legolize",
-                      {sample("table.obj").string(), "--scale", "1", "--load-top", "300", "-o",
-                       out.string(), "--report", report.string(), "--parts-list", parts.string()});
+  auto run = run_tool("legolize", {sample("table.obj").string(), "--scale", "1", "--load-top",
+                                   "300", "--refine-seconds", kUnhurried, "-o", out.string(),
+                                   "--report", report.string(), "--parts-list", parts.string()});
   ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
   const auto r = read_json(report);
   std::cout << "table: C_M " << r["cm_gf_initial"] << " -> " << r["cm_gf_final"] << " gf, "
@@ -431,8 +435,9 @@ TEST(Legolize, TheRefinementDoesNotDependOnHowManyThreadsTheBlasUses) {
   auto run = [&](const char* threads, const std::string& name) {
     ::setenv("OPENBLAS_NUM_THREADS", threads, 1);
     auto out = scratch(name);
-    auto r = run_tool("legolize", {sample("table.obj").string(), "--scale", "1", "--load-top",
-                                   "300", "--seed", "3", "--quiet", "-o", out.string()});
+    auto r = run_tool("legolize",
+                      {sample("table.obj").string(), "--scale", "1", "--load-top", "300", "--seed",
+                       "3", "--refine-seconds", kUnhurried, "--quiet", "-o", out.string()});
     ::unsetenv("OPENBLAS_NUM_THREADS");
     EXPECT_EQ(r.exit_code, 0) << r.err;
     std::ifstream in(out);
@@ -452,6 +457,8 @@ TEST(Legolize, LocalBoundsLeaveTheRefinementAsItWas) {
                                   "1",
                                   "--load-top",
                                   "300",
+                                  "--refine-seconds",
+                                  kUnhurried,
                                   "--quiet",
                                   "-o",
                                   out.string(),
@@ -684,9 +691,9 @@ TEST(Legolize, TheBunnyConvertsAndBrickcheckAgrees) {
 // as the layers come: bricks are held back a step until what balances them is there.
 TEST(Legolize, BricksAreHeldBackUntilTheirStepStands) {
   auto out = scratch("table56.mpd"), report = scratch("table56.json");
-  auto run =
-      run_tool("legolize", {sample("table.obj").string(), "--scale", "1", "--load-top", "300",
-                            "--min-cm", "56", "-o", out.string(), "--report", report.string()});
+  auto run = run_tool("legolize", {sample("table.obj").string(), "--scale", "1", "--load-top",
+                                   "300", "--min-cm", "56", "--refine-seconds", kUnhurried, "-o",
+                                   out.string(), "--report", report.string()});
   ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
   const auto r = read_json(report);
   EXPECT_GT(r["held_back"].get<int>(), 0);
