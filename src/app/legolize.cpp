@@ -279,11 +279,7 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
     for (size_t i = 0; i < out.la.assembly.bricks.size(); ++i)
       if (out.order.step_of[i] <= k) step.placed[size_t(out.la.layout_id[i])] = 1;
     s.stage(fmt::format("adding supports under step {}, which falls", k));
-    const auto judged = layout::to_assembly(layout::placed_only(lay, step), *s.catalog,
-                                            s.refine.inside_color, {}, s.refine.support_color);
-    const layout::SupportResult added = layout::add_supports(
-        lay, *s.catalog, physics::analyze_stability(judged.assembly, s.order.stability), s.supports,
-        step);
+    const layout::SupportResult added = layout::add_supports(lay, *s.catalog, s.supports, step);
     s.stage(fmt::format("supports under step {}: {} column{} ({:.2f} s)", k, added.columns.size(),
                         added.columns.size() == 1 ? "" : "s", seconds_since(t)));
     if (added.columns.empty()) break;
@@ -382,6 +378,14 @@ struct Plan {
   voxel::VoxelizeOptions voxelize;
 };
 
+// The RGB of a colour an option names; a code the table lacks (or 16, 24) is refused.
+unsigned solid_colour(const char* option, int code) {
+  const auto rgb = ldraw::ColorTable::standard().rgb(code);
+  if (!rgb || code == ldraw::kMainColor || code == ldraw::kEdgeColor)
+    throw InputError("", 0, fmt::format("{}: {} is not in the colour table", option, code));
+  return *rgb;
+}
+
 // A wanted list naming a colour BrickLink does not have is refused: say so before any work, for
 // every colour of the palette (and the interior's and the supports', -1 for none) at once.
 void check_bricklink_colours(const voxel::Palette& palette, int support_color) {
@@ -436,18 +440,10 @@ Plan check_options(const app::LegolizeOptions& o) {
   if (o.voxels_only && !o.heatmap.empty())
     throw InputError("", 0, "--heatmap needs the brick layout; --voxels-only stops before it");
   Plan p;
-  const auto default_rgb = ldraw::ColorTable::standard().rgb(o.default_color);
-  if (!default_rgb || o.default_color == ldraw::kMainColor || o.default_color == ldraw::kEdgeColor)
-    throw InputError(
-        "", 0, fmt::format("--default-color: {} is not in the colour table", o.default_color));
-  p.mesh.default_color = voxel::from_hex(*default_rgb);
+  p.mesh.default_color = voxel::from_hex(solid_colour("--default-color", o.default_color));
   // Uncoloured surfaces match the default exactly: it is in the palette.
   p.palette = parse_palette(o.palette_spec).with(o.default_color, ldraw::ColorTable::standard());
-  const auto& table = ldraw::ColorTable::standard();
-  if (!table.rgb(o.support_color) || o.support_color == ldraw::kMainColor ||
-      o.support_color == ldraw::kEdgeColor)
-    throw InputError(
-        "", 0, fmt::format("--support-color: {} is not in the colour table", o.support_color));
+  solid_colour("--support-color", o.support_color);
   if (!o.bricklink.empty())
     check_bricklink_colours(p.palette, o.no_supports ? -1 : o.support_color);
   if (o.up != "auto") p.mesh.up = mesh::parse_up_axis(o.up);

@@ -39,7 +39,7 @@ std::optional<LayoutBrick> merge_of(const Layout& layout, int a, int b, const Me
   auto m = merged_shape(layout, a, b, rules.family);
   if (!m) return std::nullopt;
   const int ca = layout.brick(a).color, cb = layout.brick(b).color;
-  // A support is removed after building: no brick is half support, whatever the colour rule.
+  // A support comes away whole: no brick is half support, whatever the colour rule.
   if ((ca == kSupport) != (cb == kSupport)) return std::nullopt;
   const bool two_colors = ca != kIgnore && cb != kIgnore && ca != cb;
   if (!two_colors) return rules.limits.allow(layout, *m) ? m : std::nullopt;
@@ -63,12 +63,17 @@ int color_mismatches(const Layout& layout, const LayoutBrick& brick) {
   return e;
 }
 
+namespace {
+
+// An LDraw colour in CIELAB, as the colour table gives it (black when the table lacks it).
+voxel::Lab lab_of(int code) {
+  const auto rgb = ldraw::ColorTable::standard().rgb(code);
+  return voxel::to_lab(voxel::from_hex(rgb ? *rgb : 0));
+}
+
+}  // namespace
+
 ColorChanges color_changes(const Layout& layout) {
-  const auto& table = ldraw::ColorTable::standard();
-  auto lab = [&](int code) {
-    const auto rgb = table.rgb(code);
-    return voxel::to_lab(voxel::from_hex(rgb ? *rgb : 0));
-  };
   ColorChanges out;
   double sum = 0;
   for (int id : layout.brick_ids()) {
@@ -80,7 +85,7 @@ ColorChanges color_changes(const Layout& layout) {
         ++out.visible;
         if (c == b.color || b.color < 0) continue;
         ++out.changed;
-        const double d = voxel::ciede2000(lab(c), lab(b.color));
+        const double d = voxel::ciede2000(lab_of(c), lab_of(b.color));
         sum += d;
         out.max_distance = std::max(out.max_distance, d);
       }
@@ -127,11 +132,9 @@ bool trade_color(const Layout& layout, LayoutBrick& m, int ci, int cj, const Mer
 ColorTrades ColorTrades::within(const std::vector<int>& codes, double max_distance) {
   ColorTrades out;
   if (max_distance <= 0) return out;
-  const auto& table = ldraw::ColorTable::standard();
   std::vector<std::pair<int, voxel::Lab>> labs;
   for (int code : codes)
-    if (const auto rgb = table.rgb(code))
-      labs.push_back({code, voxel::to_lab(voxel::from_hex(*rgb))});
+    if (ldraw::ColorTable::standard().rgb(code)) labs.push_back({code, lab_of(code)});
   for (size_t i = 0; i < labs.size(); ++i)
     for (size_t k = i + 1; k < labs.size(); ++k)
       if (labs[i].first != labs[k].first &&

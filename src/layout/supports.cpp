@@ -139,25 +139,25 @@ Layout placed_only(const Layout& layout, const PlacedBricks& step) {
   return out;
 }
 
-SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
-                           const physics::StabilityResult& current, const SupportOptions& o) {
-  return add_supports(layout, catalog, current, o, PlacedBricks{});
+namespace {
+
+// The model judged: all of it with its loads, or a build step's bricks without them.
+LayoutAssembly judged(const Layout& layout, const BrickCatalog& catalog, const SupportOptions& o,
+                      const PlacedBricks& step) {
+  return step.placed.empty()
+             ? to_assembly(layout, catalog, o.inside_color, o.loads, o.support_color)
+             : to_assembly(placed_only(layout, step), catalog, o.inside_color, {}, o.support_color);
 }
 
-SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
-                           const physics::StabilityResult& current, const SupportOptions& o,
-                           const PlacedBricks& step) {
-  const bool whole = step.placed.empty();
+// add_supports from the judged model `la` as it is and its analysis `current`.
+SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAssembly la,
+                          const physics::StabilityResult& current, const SupportOptions& o,
+                          const PlacedBricks& step) {
   const auto start = std::chrono::steady_clock::now();
   const physics::OneBlasThreadEach blas_threads(o.side_by_side);
   SupportResult out;
   out.final = current;
-  // The model judged: all of it with its loads, or a build step's bricks without them.
-  auto assemble = [&](const Layout& l) {
-    return whole ? to_assembly(l, catalog, o.inside_color, o.loads, o.support_color)
-                 : to_assembly(placed_only(l, step), catalog, o.inside_color, {}, o.support_color);
-  };
-  LayoutAssembly la = assemble(layout);
+  auto assemble = [&](const Layout& l) { return judged(l, catalog, o, step); };
   out.stable = out.final.stable(o.min_cm_gf);
   // As it was after the last column that raised C_M. Columns that only move the weakest place
   // elsewhere are kept while a next one may raise it (two legs as weak as each other), at most
@@ -259,6 +259,20 @@ SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
   }
   take_back_moves();
   return out;
+}
+
+}  // namespace
+
+SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
+                           const physics::StabilityResult& current, const SupportOptions& o) {
+  return add_columns(layout, catalog, judged(layout, catalog, o, {}), current, o, {});
+}
+
+SupportResult add_supports(Layout& layout, const BrickCatalog& catalog, const SupportOptions& o,
+                           const PlacedBricks& step) {
+  LayoutAssembly la = judged(layout, catalog, o, step);
+  const physics::StabilityResult current = physics::analyze_stability(la.assembly, o.stability);
+  return add_columns(layout, catalog, std::move(la), current, o, step);
 }
 
 }  // namespace lego::layout

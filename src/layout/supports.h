@@ -65,10 +65,9 @@ struct PlacedBricks {
   std::vector<char> placed;
 };
 // add_supports for what stands after a build step: the columns fit the finished model, and are
-// judged on the placed bricks and the supports (`current` is their analysis, without loads).
+// judged on the placed bricks and the supports, without loads (analysed here first).
 SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
-                           const physics::StabilityResult& current, const SupportOptions& options,
-                           const PlacedBricks& step);
+                           const SupportOptions& options, const PlacedBricks& step);
 
 // The layout as it stands when only `step`'s bricks (and the supports) are placed.
 Layout placed_only(const Layout& layout, const PlacedBricks& step);

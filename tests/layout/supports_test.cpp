@@ -102,7 +102,7 @@ TEST(Supports, AStepThatFallsIsJudgedOnItsOwnBricks) {
   EXPECT_LT(judged.assembly.bricks.size(), l.brick_count());
   const auto before = physics::analyze_stability(judged.assembly);
   ASSERT_FALSE(before.stable()) << comparable_cm_gf(before);
-  const SupportResult s = add_supports(l, catalog, before, {}, step);
+  const SupportResult s = add_supports(l, catalog, {}, step);
   ASSERT_FALSE(s.columns.empty());
   EXPECT_TRUE(s.stable) << comparable_cm_gf(s.final);
   for (const SupportColumn& c : s.columns)
