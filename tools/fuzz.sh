@@ -6,7 +6,8 @@
 # not parse fails the step, and the input is printed into the log and kept under build-asan/fuzz/.
 # A hang is an input over 30 s here: the sanitizers make our code 3 to 10 times slower, and the
 # slowest of 21,060 inputs took 1.7 s in the Release build (10 s there, as the issue asks). The
-# seed is the date, printed: FUZZ_SEED=N reruns a day's inputs.
+# seed is the date, printed: FUZZ_SEED=N reruns a day's inputs. Then tools/stop_stress.sh: runs
+# stopped by signals at random moments.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 in_process=${1:-20000}
@@ -54,4 +55,6 @@ done
 awk '$1 == "all" { n += $2; c += $3; h += $4; s += $5; o += $6 }
      END { printf "fuzz: %d inputs, %d crashes, %d hangs, %d sanitizer reports, %d other failures\n", n, c, h, s, o }' \
   "$out"/*/log
+# Stops at random moments: no run may end otherwise than by its signal, nor leave a mixed set.
+bash tools/stop_stress.sh 200 build-asan/src/app || status=1
 exit $status

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <chrono>
 #include <cmath>
@@ -13,6 +14,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <sstream>
 
@@ -22,6 +24,8 @@
 #include "core/brick_catalog.h"
 #include "core/error.h"
 #include "core/lattice.h"
+#include "core/memory.h"
+#include "core/stop.h"
 #include "core/stopwatch.h"
 #include "core/text.h"
 #include "layout/build_order.h"
@@ -361,12 +365,30 @@ struct Run {
     rep.min_cm_gf = o.min_cm;
   }
   void stage(const std::string& words) const {
+    {
+      const std::lock_guard lock(last_stage_mutex);
+      last_stage = words;
+    }
     if (!o.quiet)
       std::cerr << fmt::format("legolize [{:7.2f} s] {}\n", seconds_since(start), words);
   }
+  // Where the run is (from any thread: the stop's says where --max-seconds ended it), and what
+  // is written.
+  std::string where() const {
+    const std::lock_guard lock(last_stage_mutex);
+    return fmt::format(
+        "the run was at: {}; {}", last_stage,
+        written ? "the outputs were written, the booklet was not" : "nothing was written");
+  }
+  std::atomic<bool> written{false};  // the outputs are in place
+
   std::function<void(const std::string&)> stage_sink() const {
     return [this](const std::string& words) { stage(words); };
   }
+
+ private:
+  mutable std::mutex last_stage_mutex;
+  mutable std::string last_stage = "the start";
 };
 
 // What the options ask for, checked before the work starts: everything the user typed.
@@ -426,17 +448,31 @@ std::optional<std::string> colours_not_made_today(const std::vector<report::Part
       listed);
 }
 
+// The outputs the options name, but the heat maps (a piece built apart adds its own).
+std::vector<app::Output> named_outputs(const app::LegolizeOptions& o) {
+  return {{"-o", o.output},
+          {"--parts-list", o.parts_list},
+          {"--bricklink", o.bricklink},
+          {"--report", o.report_path}};
+}
+
+// The memory budgets' measures. A grid cell is a byte and a colour (13 bytes), rounded up. A voxel
+// kept: the crate sample at --height 100 (218,376 voxels kept, 45,671 bricks) peaked at 2.4 GB in
+// its build order, 11 kB a voxel, rounded up.
+constexpr double kBytesPerGridCell = 16, kBytesPerVoxelKept = 12 << 10;
+
 Plan check_options(const app::LegolizeOptions& o) {
   const std::string ext = ascii_lower(fs::path(o.output).extension().string());
   if (ext != ".ldr" && ext != ".mpd")
     throw InputError(o.output, 0, "-o: the model is written as .ldr or .mpd");
-  app::check_outputs({{"-o", o.output},
-                      {"--parts-list", o.parts_list},
-                      {"--bricklink", o.bricklink},
-                      {"--report", o.report_path},
-                      {"--heatmap", o.heatmap}},
-                     {o.input});
+  std::vector<app::Output> outputs = named_outputs(o);
+  outputs.push_back({"--heatmap", o.heatmap});
+  app::check_outputs(outputs, {o.input});
   if (!o.instructions.empty()) report::check_booklet_folder(o.instructions);
+  if (const std::string why = memory_shortfall(double(o.max_voxels) * kBytesPerGridCell,
+                                               fmt::format("a grid of {} voxels", o.max_voxels));
+      !why.empty())
+    throw InputError("", 0, "--max-voxels: " + why);
   if (o.voxels_only && !o.heatmap.empty())
     throw InputError("", 0, "--heatmap needs the brick layout; --voxels-only stops before it");
   Plan p;
@@ -456,7 +492,8 @@ Plan check_options(const app::LegolizeOptions& o) {
   for (const auto& l : o.limits) p.rules.limits.add(l, catalog);
   p.refine.min_cm_gf = o.min_cm;
   p.refine.fail_max = o.fail_max;
-  p.refine.max_seconds = o.refine_seconds;
+  p.refine.max_seconds =
+      o.max_seconds > 0 ? std::min(o.refine_seconds, o.max_seconds / 3) : o.refine_seconds;
   p.refine.side_by_side = o.jobs > 1;
   if (o.no_local_bounds) p.refine.bound_ring = -1;
   p.refine.inside_color = kInsideColor;
@@ -484,6 +521,10 @@ Voxels read_and_voxelize(Run& run, const Plan& p) {
   auto t = Clock::now();
   run.stage("reading " + o.input);
   const mesh::Mesh m = mesh::load_mesh(o.input, p.mesh);
+  // The files the mesh brought with it (material libraries, textures, buffers) are inputs too.
+  std::vector<app::Output> outputs = named_outputs(o);
+  outputs.push_back({"--heatmap", o.heatmap});
+  app::check_outputs(outputs, m.files_read);
   run.rep.up = m.up;
   for (const std::string& w : m.warnings) {
     if (o.strict) throw InputError(o.input, 0, w + " (--strict)");
@@ -502,6 +543,11 @@ Voxels read_and_voxelize(Run& run, const Plan& p) {
   run.stage(fmt::format("{} x {} x {} voxels, {} kept; up is {}", grid.width, grid.height,
                         grid.depth, run.rep.voxels_filled, m.up));
   if (run.rep.voxels_filled == 0) throw InputError(o.input, 0, "the mesh leaves no voxel to build");
+  if (const std::string why =
+          memory_shortfall(double(run.rep.voxels_filled) * kBytesPerVoxelKept,
+                           fmt::format("a model of {} voxels", run.rep.voxels_filled));
+      !why.empty())
+    throw OutOfMemory("out of memory: " + why + " (a smaller --height needs less)");
   for (const auto& l : p.refine.loads.at_voxels)
     if (target.at(l.x, l.y, l.z) == layout::kEmpty)
       throw InputError("", 0,
@@ -545,6 +591,7 @@ void write_outputs(Run& run, const std::vector<const Assembly*>& assemblies,
   rep.seconds.emplace_back("total", seconds_since(run.start));
   if (!o.report_path.empty()) files.emplace_back(o.report_path, report_json(rep));
   ldraw::write_files_atomically(files);
+  run.written = true;
   if (o.instructions.empty()) return;
   report::Booklet booklet = report::booklet_of(ldraw::read_file(o.output));
   for (report::BookletStep& bs : booklet.steps)
@@ -595,10 +642,7 @@ int write_voxels(Run& run, const Plan& p, const Voxels& v) {
 std::vector<fs::path> heat_map_paths(const app::LegolizeOptions& o, size_t pieces) {
   std::vector<fs::path> paths;
   if (o.heatmap.empty()) return paths;
-  std::vector<app::Output> outputs{{"-o", o.output},
-                                   {"--parts-list", o.parts_list},
-                                   {"--bricklink", o.bricklink},
-                                   {"--report", o.report_path}};
+  std::vector<app::Output> outputs = named_outputs(o);
   for (size_t k = 0; k < pieces; ++k) {
     paths.push_back(k == 0 ? fs::path(o.heatmap) : piece_file(o.heatmap, int(k) + 1));
     outputs.push_back({"--heatmap", paths.back().string()});
@@ -868,6 +912,7 @@ int exit_code(const report::ConversionReport& rep, const std::vector<PieceResult
 // The pipeline (paper Algorithm 1): read and voxelize, lay out each piece, refine it and order
 // its build, write the files.
 int main(int argc, char** argv) {
+  stop::install("legolize");  // before any thread starts: they inherit its signal mask
   CLI::App app{"legolize: turn a colored 3D mesh into a LEGO model that stands"};
   app::LegolizeOptions o;
   app::add_options(app, o);
@@ -878,6 +923,10 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : kExitBadInput;
   }
   Run run(o);
+  if (o.max_seconds > 0)
+    stop::set_deadline(o.max_seconds, kExitUndecided, [&run, &o] {
+      return fmt::format("out of time ({:g} s); {}", o.max_seconds, run.where());
+    });
   try {
     Plan plan = check_options(o);
     Voxels voxels = read_and_voxelize(run, plan);
@@ -898,5 +947,11 @@ int main(int argc, char** argv) {
   } catch (const InputError& e) {
     std::cerr << "legolize: " << e.what() << "\n";
     return kExitBadInput;
+  } catch (const OutOfMemory& e) {
+    std::cerr << "legolize: " << e.what() << "; " << run.where() << "\n";
+    return kExitUndecided;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "legolize: out of memory: an allocation failed; " << run.where() << "\n";
+    return kExitUndecided;
   }
 }

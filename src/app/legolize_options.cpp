@@ -106,6 +106,12 @@ void add_options(CLI::App& app, LegolizeOptions& o) {
                  "gets supports")
       ->check(finite_number(Sign::Positive))
       ->group(g_physics);
+  app.add_option("--max-seconds", o.max_seconds,
+                 "the whole run ends after this long, whatever it is doing (reading, the layout, "
+                 "the refinement, supports, build steps, the booklet): exit 4, saying where it "
+                 "was; the refinement then takes at most a third of it. Default: no limit")
+      ->check(finite_number(Sign::Positive))
+      ->group(g_physics);
   app.add_option("--support-color", o.support_color,
                  fmt::format("LDraw colour of the supports: columns from the ground added under "
                              "what hangs when the refined layout does not stand, built first "

@@ -24,7 +24,7 @@ struct LegolizeOptions {
       support_color = layout::kDefaultSupportColor;
   size_t max_voxels = 8'000'000;
   double scale = 0, w_c = 1, min_cm = 0, load_top = 0, read_seconds = 120, refine_seconds = 60,
-         color_trade = 12;
+         color_trade = 12, max_seconds = 0;
   uint64_t seed = 1;
   bool voxels_only = false, solid = false, no_refine = false, quiet = false,
        no_step_analysis = false, no_local_bounds = false, strict = false, no_supports = false;

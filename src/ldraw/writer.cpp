@@ -5,19 +5,18 @@
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <map>
-#include <mutex>
-#include <optional>
+#include <memory>
 #include <system_error>
 
-#include <pthread.h>
-#include <signal.h>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
-#include <csignal>
 
 #include "core/error.h"
+#include "core/stop.h"
 #include "core/text.h"
 
 namespace lego::ldraw {
@@ -208,42 +207,67 @@ const mode_t kUmask = [] {
   return mask;
 }();
 
-// A file being written beside its destination, to be renamed over it.
-struct Temporary {
-  std::filesystem::path path;
-  int fd = -1;
+// The private folders a set of outputs is written in, one beside each destination folder (a
+// rename does not cross file systems): made by mkdtemp (a name no other run shares, mode 0700, so
+// that nothing planted in it is written through), listed for a stop, and removed when done.
+class PrivateFolders {
+ public:
+  PrivateFolders() = default;
+  PrivateFolders(const PrivateFolders&) = delete;
+  PrivateFolders& operator=(const PrivateFolders&) = delete;
+  ~PrivateFolders() {
+    std::error_code ec;
+    for (const auto& [dir, folder] : folders_) std::filesystem::remove_all(folder, ec);
+  }
+
+  // Where the output `path` is written before it is moved into place.
+  std::filesystem::path file_for(const std::filesystem::path& path) {
+    const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
+    auto it = folders_.find(dir);
+    if (it == folders_.end()) {
+      std::string name = (dir / ".tmp-legolization-XXXXXX").string();
+      if (!::mkdtemp(name.data()))
+        throw InputError(path.string(), 0,
+                         std::string("cannot write here: ") + std::strerror(errno));
+      it = folders_.emplace(dir, name).first;
+      on_stop_.push_back(std::make_unique<stop::RemovedOnStop>(name));
+    }
+    return it->second / path.filename();
+  }
+
+ private:
+  std::map<std::filesystem::path, std::filesystem::path> folders_;
+  std::vector<std::unique_ptr<stop::RemovedOnStop>> on_stop_;
 };
 
-// A new temporary beside `path`, made by mkstemp: a name no other run shares, created with
-// O_EXCL, so that a link planted under a predictable name is never written through.
-Temporary create_temporary(const std::filesystem::path& path) {
-  std::string name = path.string() + ".tmp-legolization-XXXXXX";
-  const int fd = ::mkstemp(name.data());
-  if (fd < 0) throw InputError(path.string(), 0, "cannot write here");
-  return {name, fd};
-}
-
-// Writes `text` into the temporary for `path` and closes it, with the mode of the file it
-// replaces (a 640 model stays 640), else the one a new file gets.
-void write_temporary(Temporary& t, const std::filesystem::path& path, const std::string& text) {
+// Writes `text` as the new file `written` (O_EXCL, O_NOFOLLOW), with the mode of the file at
+// `path` it will replace (a 640 model stays 640), else the one a new file gets.
+void write_new_file(const std::filesystem::path& written, const std::filesystem::path& path,
+                    const std::string& text) {
   std::error_code ec;
   const auto old = std::filesystem::status(path, ec);
   const mode_t mode = !ec && std::filesystem::is_regular_file(old)
                           ? mode_t(old.permissions()) & 07777
                           : 0666 & ~kUmask;
-  bool ok = ::fchmod(t.fd, mode) == 0;
+  const int fd =
+      ::open(written.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+  if (fd < 0) throw InputError(path.string(), 0, "cannot write here");
+  bool ok = ::fchmod(fd, mode) == 0;
   for (size_t done = 0; ok && done < text.size();) {
-    const ssize_t n = ::write(t.fd, text.data() + done, text.size() - done);
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
     if (n < 0 && errno == EINTR) continue;
     ok = n > 0;
     if (ok) done += size_t(n);
   }
-  ok = ::close(t.fd) == 0 && ok;
-  t.fd = -1;
+  ok = ::close(fd) == 0 && ok;
   if (!ok) throw InputError(path.string(), 0, "writing failed");
 }
 
 }  // namespace
+
+mode_t new_file_mode(bool folder) {
+  return (folder ? 0777 : 0666) & ~kUmask;
+}
 
 void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
   write_files_atomically({{path, text}});
@@ -272,87 +296,6 @@ Destination destination_of(const std::filesystem::path& path) {
   return d;
 }
 
-namespace {
-
-// The temporaries of the outputs being written, for a signal handler to remove: a run stopped by
-// SIGINT, SIGTERM or SIGHUP before its outputs are in place leaves the old files whole and no
-// temporary behind. Threads writing at once (brickcheck -j) each hold slots; the handler is
-// installed while any slot is. (Plain arrays: the handler may only call async-signal-safe
-// functions. A slot's path is written before it is marked used, and it is marked free before it
-// is written again.)
-constexpr int kMaxPending = 64;
-char g_pending[kMaxPending][4096];
-volatile std::sig_atomic_t g_pending_used[kMaxPending] = {};
-
-extern "C" void remove_pending_and_stop(int signal_number) {
-  for (int i = 0; i < kMaxPending; ++i)
-    if (g_pending_used[i]) ::unlink(g_pending[i]);
-  ::signal(signal_number, SIG_DFL);
-  ::raise(signal_number);
-}
-
-constexpr int kStopSignals[] = {SIGINT, SIGTERM, SIGHUP};
-
-// While alive: the temporaries are removed if the process is stopped.
-class PendingTemporaries {
- public:
-  explicit PendingTemporaries(const std::vector<std::filesystem::path>& temporaries) {
-    const std::lock_guard lock(mutex_);
-    for (const auto& t : temporaries) {
-      const std::string text = t.string();
-      if (text.size() >= sizeof g_pending[0]) continue;
-      int slot = 0;
-      while (slot < kMaxPending && g_pending_used[slot]) ++slot;
-      if (slot == kMaxPending) break;
-      std::copy(text.begin(), text.end(), g_pending[slot]);
-      g_pending[slot][text.size()] = '\0';
-      g_pending_used[slot] = 1;
-      slots_.push_back(slot);
-    }
-    if (holders_++ > 0) return;
-    struct sigaction action {};
-    action.sa_handler = remove_pending_and_stop;
-    sigemptyset(&action.sa_mask);
-    for (size_t i = 0; i < std::size(kStopSignals); ++i)
-      ::sigaction(kStopSignals[i], &action, &previous_[i]);
-  }
-  ~PendingTemporaries() {
-    const std::lock_guard lock(mutex_);
-    for (int slot : slots_) g_pending_used[slot] = 0;
-    if (--holders_ > 0) return;
-    for (size_t i = 0; i < std::size(kStopSignals); ++i)
-      ::sigaction(kStopSignals[i], &previous_[i], nullptr);
-  }
-  PendingTemporaries(const PendingTemporaries&) = delete;
-  PendingTemporaries& operator=(const PendingTemporaries&) = delete;
-
- private:
-  std::vector<int> slots_;
-  // Shared by the threads writing: how many hold slots, and the handlers before the first.
-  static inline std::mutex mutex_;
-  static inline int holders_ = 0;
-  static inline struct sigaction previous_[std::size(kStopSignals)]{};
-};
-
-// Stop signals wait while alive: the renames that put the outputs in place all happen, or none.
-class SignalsWait {
- public:
-  SignalsWait() {
-    sigset_t set;
-    sigemptyset(&set);
-    for (int s : kStopSignals) sigaddset(&set, s);
-    ::pthread_sigmask(SIG_BLOCK, &set, &previous_);
-  }
-  ~SignalsWait() { ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
-  SignalsWait(const SignalsWait&) = delete;
-  SignalsWait& operator=(const SignalsWait&) = delete;
-
- private:
-  sigset_t previous_;
-};
-
-}  // namespace
-
 void write_files_atomically(
     const std::vector<std::pair<std::filesystem::path, std::string>>& given) {
   std::error_code ec;
@@ -371,50 +314,43 @@ void write_files_atomically(
       if (resolved(given[i].first) == resolved(given[k].first))
         throw InputError(given[i].first.string(), 0, "two outputs name this one file");
     }
-  // Created and listed for the stop handler with stop signals waiting: a stop removes every
-  // temporary made.
-  std::vector<Temporary> temporaries;
-  std::optional<PendingTemporaries> pending;
-  auto remove_temporaries = [&] {
-    for (Temporary& t : temporaries) {
-      if (t.fd >= 0) ::close(t.fd);
-      std::filesystem::remove(t.path, ec);
-    }
-  };
+  PrivateFolders folders;
+  std::vector<std::filesystem::path> written;
   {
-    const SignalsWait wait;
-    try {
-      for (const auto& f : files) temporaries.push_back(create_temporary(f.first));
-    } catch (const InputError&) {
-      remove_temporaries();
-      throw;
-    }
-    std::vector<std::filesystem::path> names;
-    for (const Temporary& t : temporaries) names.push_back(t.path);
-    pending.emplace(names);
+    const stop::Publishing made_and_listed;  // a stop waits: it finds every folder made
+    for (const auto& f : files) written.push_back(folders.file_for(f.first));
   }
-  try {
-    for (size_t i = 0; i < files.size(); ++i)
-      write_temporary(temporaries[i], files[i].first, files[i].second);
-    // What cannot be renamed into place (a device, a FIFO) is written before anything moves, so
-    // that a failure or a stop there still leaves every old output whole.
-    for (const auto& [path, text] : direct) {
-      std::ofstream out(path, std::ios::binary);
-      out << text;
-      out.flush();
-      if (!out) throw InputError(path.string(), 0, "writing failed");
-    }
-  } catch (const InputError&) {
-    remove_temporaries();
-    throw;
+  for (size_t i = 0; i < files.size(); ++i)
+    write_new_file(written[i], files[i].first, files[i].second);
+  // What cannot be renamed into place (a device, a FIFO) is written before anything moves, so
+  // that a failure or a stop there still leaves every old output whole.
+  for (const auto& [path, text] : direct) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) throw InputError(path.string(), 0, "writing failed");
   }
-  const SignalsWait wait;
+  // Every rename, or none: each file replaced is kept (a second name in the private folder) until
+  // all are in place, and put back if one cannot move.
+  const stop::Publishing publishing;
+  std::vector<std::filesystem::path> kept(files.size());
   for (size_t i = 0; i < files.size(); ++i) {
-    std::filesystem::rename(temporaries[i].path, files[i].first, ec);
-    if (ec) {
-      for (size_t k = i; k < files.size(); ++k) std::filesystem::remove(temporaries[k].path, ec);
-      throw InputError(files[i].first.string(), 0, "cannot move the written file into place");
+    const std::filesystem::path old = written[i].parent_path() / (".old-" + std::to_string(i));
+    if (::link(files[i].first.c_str(), old.c_str()) == 0) kept[i] = old;
+  }
+  for (size_t i = 0; i < files.size(); ++i) {
+    std::filesystem::rename(written[i], files[i].first, ec);
+    if (!ec) continue;
+    const std::string why = ec.message();
+    for (size_t k = 0; k < i; ++k) {
+      if (!kept[k].empty())
+        std::filesystem::rename(kept[k], files[k].first, ec);
+      else
+        std::filesystem::remove(files[k].first, ec);
     }
+    throw InputError(
+        files[i].first.string(), 0,
+        "cannot move the written file into place (" + why + "); every output is as it was");
   }
 }
 

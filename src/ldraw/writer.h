@@ -1,4 +1,5 @@
 #pragma once
+#include <sys/types.h>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -30,6 +31,9 @@ std::string to_ldr(const Assembly& assembly, const WriteOptions& options);
 // One .mpd: a main model placing one submodel per build step (bricks grouped by
 // Brick::source.step), each followed by `0 STEP`, so viewers show a step per submodel.
 std::string to_mpd(const Assembly& assembly, const WriteOptions& options);
+
+// The mode a new file (or folder) gets, as if made with open() (mkdir()) under the umask.
+mode_t new_file_mode(bool folder);
 
 // Writes text next to `path` first and renames it into place, so a failed write never leaves a
 // partial file. Throws InputError when the path cannot be written.

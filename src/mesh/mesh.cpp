@@ -1,5 +1,6 @@
 #include "mesh/mesh.h"
 
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/config.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -24,6 +25,7 @@
 #include "core/case_insensitive_paths.h"
 #include "core/csv.h"
 #include "core/error.h"
+#include "core/stop.h"
 #include "core/text.h"
 #include "mesh/image.h"
 
@@ -173,6 +175,7 @@ int material_texture(const aiScene* scene, const aiMaterial* m, const std::files
   } else {
     std::vector<std::string> looked;
     if (auto found = find_texture(key, dir, paths, looked)) {
+      out.files_read.push_back(*found);
       if (!load_image(*found, t, why)) why = found->string() + " cannot be decoded: " + why;
     } else {
       std::string list;
@@ -275,8 +278,9 @@ namespace {
 Mesh read_mesh(const std::filesystem::path& path, const MeshOptions& options);
 
 // Reads the file in a child process first: a crash, a hang past the time limit or an allocation
-// that fails there becomes an InputError here. The child exits without cleaning up (_exit), and
-// this runs before any thread of ours starts.
+// that fails there becomes an InputError here. The child exits without cleaning up (_exit); it
+// is forked before any thread of the run's work starts (only the stop thread, which holds no lock
+// the child takes), and stopped with the run.
 void read_in_child_first(const std::filesystem::path& path, const MeshOptions& options) {
   std::fflush(nullptr);
   const pid_t pid = ::fork();
@@ -296,7 +300,10 @@ void read_in_child_first(const std::filesystem::path& path, const MeshOptions& o
     ::_exit(code);
   }
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  {
+    const stop::ChildOnStop stopped_with_the_run(pid, false);
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
   }
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
   std::string why;
@@ -325,8 +332,25 @@ Mesh load_mesh(const std::filesystem::path& path, const MeshOptions& options) {
 
 namespace {
 
+// Assimp's file system, noting every file a reader opens (an OBJ's material libraries, a glTF's
+// buffers): outputs must not replace them.
+class NotingIOSystem : public Assimp::DefaultIOSystem {
+ public:
+  explicit NotingIOSystem(std::vector<std::filesystem::path>& opened) : opened_(opened) {}
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    Assimp::IOStream* stream = DefaultIOSystem::Open(file, mode);
+    if (stream) opened_.emplace_back(file);
+    return stream;
+  }
+
+ private:
+  std::vector<std::filesystem::path>& opened_;
+};
+
 Mesh read_mesh(const std::filesystem::path& path, const MeshOptions& options) {
+  Mesh out;
   Assimp::Importer importer;
+  importer.SetIOHandler(new NotingIOSystem(out.files_read));  // the importer owns it
   // An --up names an axis of the file as written: Assimp must not turn a Collada file first.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, options.up.has_value());
   // PreTransformVertices bakes every node's transform into its meshes: one frame for all.
@@ -336,7 +360,6 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshOptions& options) {
   if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
     throw InputError(path.string(), 0,
                      fmt::format("the mesh cannot be read: {}", importer.GetErrorString()));
-  Mesh out;
   out.source = path.string();
   check_material_libraries(path, out);
   UpAxis up;

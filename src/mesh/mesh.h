@@ -38,6 +38,8 @@ struct Mesh {
   // What was read but not used, in words a user can act on: "texture '..\earth.jpg' of
   // material 'globe' not found (looked for ...)". Empty when everything was used.
   std::vector<std::string> warnings;
+  // Every file read for it: the mesh, its material libraries, buffers and textures.
+  std::vector<std::filesystem::path> files_read;
 
   // The color at barycentric coordinates (b0, b1, b2) of a triangle: its texture through the
   // UVs, else its corner colors interpolated.

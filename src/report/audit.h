@@ -98,6 +98,9 @@ struct Audit {
   // Where --max-seconds ran out (OutOfTime's words), the verdict then Undecided: nothing else
   // of the audit is complete.
   std::string out_of_time;
+  // Where the memory budget refused the model or an allocation failed (OutOfMemory's words), the
+  // verdict then Undecided: nothing else of the audit is complete.
+  std::string out_of_memory;
   double parse_seconds = 0, parts_seconds = 0;
   // 2 when a first analysis named parts resting where they cannot stay and they were carried:
   // the stats' times are then those of both.

@@ -2,13 +2,23 @@
 
 #include <fmt/format.h>
 
+#include <fcntl.h>
+#include <stdio.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <optional>
 #include <regex>
 
 #include "core/brick_catalog.h"
 #include "core/error.h"
+#include "core/stop.h"
 #include "core/text.h"
 #include "ldraw/color_table.h"
 #include "ldraw/writer.h"
@@ -22,6 +32,9 @@ namespace {
 // Marks a folder as ours: a booklet written before may be replaced, nothing else.
 constexpr const char* kGenerator = R"(<meta name="generator" content="legolization booklet">)";
 constexpr int kWidth = 640, kHeight = 480;
+// A picture's size on disk at most: LeoCAD's 640x480 PNGs of the Datsville buildings are 40 to
+// 150 kB.
+constexpr uintmax_t kPictureBytes = 512 << 10;
 constexpr int kRenderSeconds = 900;  // per LeoCAD run; a large town building takes a minute
 
 std::string html_escape(const std::string& text) {
@@ -52,7 +65,7 @@ std::string shell_quote(const std::string& s) {
 }
 
 bool have(const char* program) {
-  return std::system(fmt::format("command -v {} >/dev/null 2>&1", program).c_str()) == 0;
+  return stop::run_command(fmt::format("command -v {} >/dev/null 2>&1", program)) == 0;
 }
 
 // A part's name as a builder reads it: the catalog's, else the first line of its own file
@@ -81,25 +94,83 @@ std::vector<PartCount> sorted(std::map<std::pair<std::string, int>, PartCount> c
   return out;
 }
 
+// Whether DIR holds a booklet of ours: its index.html, a regular file (not a link to a device or
+// a FIFO, which would never end), begins with our generator line.
 bool is_booklet(const fs::path& dir) {
-  std::ifstream index(dir / "index.html");
-  const std::string text((std::istreambuf_iterator<char>(index)), {});
-  return text.find(kGenerator) != std::string::npos;
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(dir / "index.html", ec))) return false;
+  std::ifstream index(dir / "index.html", std::ios::binary);
+  std::string head(4096, '\0');
+  index.read(head.data(), std::streamsize(head.size()));
+  head.resize(size_t(index.gcount()));
+  return head.find(kGenerator) != std::string::npos;
 }
 
-// Creates the folder, or clears the pictures of a booklet written before in it (a longer one
-// would leave steps behind).
-void prepare_folder(const fs::path& dir) {
-  check_booklet_folder(dir);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec)
-    throw InputError(dir.string(), 0, "--instructions: cannot create the folder: " + ec.message());
-  static const std::regex ours(R"(step-\d+\.png|cover\.png|index\.html)");
-  for (const auto& e : fs::directory_iterator(dir))
-    if (e.is_regular_file() && std::regex_match(e.path().filename().string(), ours))
-      fs::remove(e.path(), ec);
+// The files of a booklet: what a new booklet replaces in DIR. Anything else there is the user's
+// and moves into the new one.
+bool booklet_file(const std::string& name) {
+  static const std::regex ours(R"(step-\d{3,}\.png|cover\.png|index\.html)");
+  return std::regex_match(name, ours);
 }
+
+// The booklet is made in a new private folder beside DIR and swapped in when whole: a stop or a
+// failure on the way leaves the old booklet as it was.
+class NewFolder {
+ public:
+  explicit NewFolder(const fs::path& dir) {
+    const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
+    std::error_code ec;
+    fs::create_directories(parent, ec);
+    std::string name = (parent / ".tmp-legolization-XXXXXX").string();
+    if (!::mkdtemp(name.data()))
+      throw InputError(
+          dir.string(), 0,
+          std::string("--instructions: cannot make a folder beside it: ") + std::strerror(errno));
+    path_ = name;
+    on_stop_.emplace(path_);
+    ::chmod(path_.c_str(), ldraw::new_file_mode(true));
+  }
+  ~NewFolder() {
+    std::error_code ec;
+    if (!path_.empty()) fs::remove_all(path_, ec);
+  }
+  NewFolder(const NewFolder&) = delete;
+  NewFolder& operator=(const NewFolder&) = delete;
+  const fs::path& path() const { return path_; }
+
+  // Puts the folder in DIR's place at once (the old booklet goes; the user's other files there
+  // come into the new one) and returns a note when something could not move.
+  std::string publish(const fs::path& dir) {
+    const stop::Publishing publishing;
+    std::error_code ec;
+    if (!fs::exists(fs::symlink_status(dir, ec))) {
+      fs::rename(path_, dir, ec);
+      if (ec)
+        throw InputError(dir.string(), 0, "--instructions: cannot move the booklet into place");
+      path_.clear();
+      return {};
+    }
+    if (::renameat2(AT_FDCWD, path_.c_str(), AT_FDCWD, dir.c_str(), RENAME_EXCHANGE) != 0)
+      throw InputError(
+          dir.string(), 0,
+          std::string("--instructions: cannot put the booklet in place: ") + std::strerror(errno));
+    // path_ now holds the old folder.
+    std::string note;
+    for (const auto& e : fs::directory_iterator(path_, ec)) {
+      const std::string name = e.path().filename().string();
+      if (booklet_file(name)) continue;
+      fs::rename(e.path(), dir / name, ec);
+      if (ec) note = "some of the files that were in " + dir.string() + " are in " + path_.string();
+    }
+    if (note.empty()) fs::remove_all(path_, ec);
+    path_.clear();
+    return note;
+  }
+
+ private:
+  fs::path path_;
+  std::optional<stop::RemovedOnStop> on_stop_;
+};
 
 // New parts' highlight: magenta, which few parts are (LeoCAD's yellow hid yellow parts' edges and
 // tinted white and nougat parts yellow).
@@ -126,6 +197,17 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
     out.note =
         "LeoCAD needs a display and xvfb-run is not installed (Debian package xvfb): the "
         "booklet has no pictures.";
+    return out;
+  }
+  // LeoCAD on a full disk waits for room until its time limit: no pictures are tried without room
+  // for them.
+  struct statvfs room {};
+  const uintmax_t needed = (booklet.steps.size() + 1) * kPictureBytes;
+  if (::statvfs(dir.c_str(), &room) == 0 && uintmax_t(room.f_bavail) * room.f_frsize < needed) {
+    out.note = fmt::format(
+        "The disk beside the booklet has {} MB free and its pictures need about {} MB: the booklet "
+        "has no pictures.",
+        uintmax_t(room.f_bavail) * room.f_frsize >> 20, (needed >> 20) + 1);
     return out;
   }
   const fs::path scratch = dir / ".render";
@@ -162,7 +244,7 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
             ? fmt::format("--highlight --highlight-color {} --fade-steps", shell_quote(kHighlight))
             : "--no-highlight --no-fade-steps",
         shell_quote(fs::absolute(shown).string()), shell_quote((scratch / "leocad.log").string()));
-    return std::system(command.c_str()) == 0;
+    return stop::run_command(command) == 0;
   };
   if (progress) progress(fmt::format("rendering {} steps with LeoCAD", booklet.steps.size()));
   const bool steps_ok = leocad("step.png", 1, last, true);
@@ -360,10 +442,13 @@ Booklet booklet_of(const ldraw::Model& model) {
 std::string write_booklet(const fs::path& dir, const Booklet& booklet, const fs::path& model,
                           const fs::path& library, const BookletProgress& progress,
                           const std::string& submodel) {
-  prepare_folder(dir);
-  const Pictures pictures = render(dir, booklet, model, library, progress, submodel);
-  ldraw::write_file_atomically(dir / "index.html", html(booklet, pictures));
+  check_booklet_folder(dir);
+  NewFolder made(dir);
+  const Pictures pictures = render(made.path(), booklet, model, library, progress, submodel);
+  ldraw::write_file_atomically(made.path() / "index.html", html(booklet, pictures));
+  const std::string moved = made.publish(dir);
   if (progress) progress(fmt::format("wrote {}", (dir / "index.html").string()));
+  if (!moved.empty()) return pictures.note.empty() ? moved : pictures.note + " " + moved;
   return pictures.note;
 }
 

@@ -58,6 +58,11 @@ json render_json(const Audit& a, const AuditOptions& options) {
     j["out_of_time"] = a.out_of_time;
     return j;
   }
+  if (!a.out_of_memory.empty()) {
+    j["status"] = "out of memory";
+    j["out_of_memory"] = a.out_of_memory;
+    return j;
+  }
   j["title"] = a.model.title;
   j["main_model"] = a.model.main_block;
   j["parts"] = a.model.parts.size();

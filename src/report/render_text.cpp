@@ -45,6 +45,7 @@ std::string verdict_reason(const Audit& a) {
       break;
   }
   if (!a.out_of_time.empty()) return a.out_of_time + " (--max-seconds)";
+  if (!a.out_of_memory.empty()) return a.out_of_memory;
   std::string why;
   if (a.verdict == Verdict::NotJudged)
     return fmt::format(
@@ -90,7 +91,9 @@ std::string render_text(const Audit& a, bool quiet) {
   auto line = [&](const std::string& s) { out += s + "\n"; };
   const auto& assembly = a.conversion.assembly;
   line(fmt::format("{}: {}: {}", one_line(a.file), verdict_word(a), verdict_reason(a)));
-  if (quiet || a.verdict == Verdict::Unreadable || !a.out_of_time.empty()) return out;
+  if (quiet || a.verdict == Verdict::Unreadable || !a.out_of_time.empty() ||
+      !a.out_of_memory.empty())
+    return out;
   if (!a.assumptions.deciding.empty() || a.assumptions.joints_checked) {
     line(fmt::format("  assumptions that can change the verdict ({}):",
                      a.assumptions.deciding.size()));

@@ -2,7 +2,13 @@
 // headless Chromium. Tests that need them skip when leocad, xvfb-run or chromium is missing.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -212,6 +218,91 @@ TEST_F(Booklet, NeverWritesOverAFolderOfOtherFiles) {
       run_tool("brickcheck", {"--instructions", book.string(), tower.string(), tower.string()});
   EXPECT_EQ(two.exit_code, 2);
   EXPECT_NE(two.err.find("one FILE"), std::string::npos);
+}
+
+// A booklet written again keeps what else the user put in its folder (their own .render/ too);
+// an index.html that is a link to a device or a FIFO is not read (it never ends) but refused.
+TEST_F(Booklet, AWrittenAgainBookletKeepsTheUsersFilesAndNeverReadsADevice) {
+  const fs::path tower = test::data_dir() / ".." / ".." / "samples" / "tower.ldr";
+  const fs::path book = dir_ / "book";
+  ASSERT_EQ(
+      run_tool("brickcheck", {"--instructions", book.string(), tower.string()}, "PATH=/nonexistent")
+          .exit_code,
+      0);
+  std::ofstream(book / "notes.txt") << "my notes\n";
+  std::ofstream(book / "step-5.png") << "my picture\n";
+  fs::create_directories(book / ".render");
+  std::ofstream(book / ".render" / "mine.txt") << "mine\n";
+  ASSERT_EQ(
+      run_tool("brickcheck", {"--instructions", book.string(), tower.string()}, "PATH=/nonexistent")
+          .exit_code,
+      0);
+  EXPECT_NE(text_of(book / "index.html").find("legolization booklet"), std::string::npos);
+  EXPECT_EQ(text_of(book / "notes.txt"), "my notes\n");
+  EXPECT_EQ(text_of(book / "step-5.png"), "my picture\n");
+  EXPECT_EQ(text_of(book / ".render" / "mine.txt"), "mine\n");
+  for (const auto& e : fs::directory_iterator(dir_))
+    EXPECT_EQ(e.path().filename().string().find("tmp-legolization"), std::string::npos) << e.path();
+
+  for (const std::string kind : {"device", "fifo"}) {
+    const fs::path odd = dir_ / kind;
+    fs::create_directories(odd);
+    if (kind == "device")
+      fs::create_symlink("/dev/zero", odd / "index.html");
+    else
+      ASSERT_EQ(::mkfifo((odd / "index.html").c_str(), 0600), 0);
+    const auto start = std::chrono::steady_clock::now();
+    auto refused = run_tool("brickcheck", {"--instructions", odd.string(), tower.string()},
+                            "PATH=/nonexistent");
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(20)) << kind;
+    EXPECT_EQ(refused.exit_code, 2) << kind;
+    EXPECT_NE(refused.err.find("holds other files"), std::string::npos) << refused.err;
+  }
+}
+
+// Stopped while LeoCAD renders, the run leaves the old booklet whole, no folder of its own and
+// no renderer running: the new booklet is made beside the old one and swapped in when whole.
+TEST_F(Booklet, AStopWhileRenderingLeavesTheOldBookletAndNoRenderer) {
+  if (!test::have("leocad") || !test::have("xvfb-run"))
+    GTEST_SKIP() << "leocad or xvfb-run is not installed";
+  const fs::path tower = test::data_dir() / ".." / ".." / "samples" / "tower.ldr";
+  const fs::path book = dir_ / "book";
+  ASSERT_EQ(
+      run_tool("brickcheck", {"--instructions", book.string(), tower.string()}, "PATH=/nonexistent")
+          .exit_code,
+      0);
+  const std::string old = text_of(book / "index.html");
+  const std::string tool = test::tool("brickcheck").string();
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl(tool.c_str(), tool.c_str(), "--quiet", "--instructions", book.c_str(), tower.c_str(),
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  fs::path scratch;
+  for (int i = 0; i < 600 && scratch.empty(); ++i) {
+    for (const auto& e : fs::directory_iterator(dir_))
+      if (e.path().filename().string().starts_with(".tmp-legolization") &&
+          fs::exists(e.path() / ".render"))
+        scratch = e.path() / ".render";
+    if (scratch.empty()) ::usleep(50000);
+  }
+  ::usleep(300000);  // LeoCAD started
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_FALSE(scratch.empty()) << "brickcheck never began rendering";
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
+  EXPECT_EQ(text_of(book / "index.html"), old);
+  for (const auto& e : fs::directory_iterator(dir_))
+    EXPECT_EQ(e.path().filename().string().find("tmp-legolization"), std::string::npos) << e.path();
+  ::usleep(500000);
+  // "[/]tmp/...": the pattern does not match the shell that runs pgrep with it.
+  const std::string pattern =
+      "[" + scratch.string().substr(0, 1) + "]" + scratch.string().substr(1);
+  EXPECT_NE(std::system(("pgrep -f " + test::quote(pattern) + " >/dev/null").c_str()), 0)
+      << "a renderer outlived the run";
 }
 
 }  // namespace

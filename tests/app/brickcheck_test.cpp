@@ -885,6 +885,26 @@ TEST(Brickcheck, MaxSecondsStopsTheRunWhereverItIs) {
   EXPECT_TRUE(names_a_stage(j["out_of_time"].get<std::string>())) << j;
 }
 
+// A stage that cannot check the budget (here: opening a pipe nobody writes; in a real streets file,
+// one factorization of 172 s) is ended a little after it: exit 4, the verdict as text or JSON.
+TEST(Brickcheck, MaxSecondsHoldsWhereAStageCannotStopItself) {
+  const fs::path fifo = scratch("nobody-writes.ldr");
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const auto start = std::chrono::steady_clock::now();
+  const auto text = run_tool("brickcheck", {"--max-seconds", "1", fifo.string()});
+  EXPECT_LT(seconds_since(start), 10);
+  EXPECT_EQ(text.exit_code, 4) << text.out << text.err;
+  EXPECT_NE(text.out.find("UNDECIDED: out of time (1 s): a stage that cannot stop itself"),
+            std::string::npos)
+      << text.out;
+  EXPECT_NE(text.err.find("nobody-writes.ldr: out of time (1 s)"), std::string::npos) << text.err;
+  json j = check_json({"--max-seconds", "1", fifo.string()}, 4);
+  EXPECT_EQ(j["verdict"], "undecided");
+  EXPECT_EQ(j["status"], "out of time");
+  fs::remove(fifo);
+}
+
 TEST(Brickcheck, FiftyThousandPartsInSeconds) {
   // 50,000 plates in a grid of loose stacks two high: connectivity only, no LP.
   auto path = scratch("fifty-thousand.ldr");

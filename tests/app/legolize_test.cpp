@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include <array>
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -31,6 +32,11 @@ fs::path scratch(const std::string& name) {
 // --refine-seconds for runs whose refinement must take its whole course: the default time limit
 // would end it where a slow machine (or a sanitizer build) happens to be.
 constexpr const char* kUnhurried = "1e6";
+
+std::string contents(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
 
 // A 12-unit cube whose faces are red (-x), green (+x), blue (-y), yellow (+y), cyan (-z),
 // magenta (+z) as OBJ + MTL.
@@ -799,6 +805,59 @@ TEST(Legolize, OutputsGoThroughLinksAndOddFileNamesStayWords) {
     EXPECT_EQ(e.path().string().find("tmp-legolization"), std::string::npos) << e.path();
 }
 
+// The files a mesh brings with it (its material library, its textures) are inputs: no output may
+// replace them.
+TEST(Legolize, OutputsNeverReplaceTheFilesTheMeshReads) {
+  const fs::path dir = scratch("mesh-files");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const char* name : {"crate.obj", "crate.mtl", "crate.png"})
+    fs::copy_file(sample(name), dir / name);
+  const std::string mtl = contents(dir / "crate.mtl"), png = contents(dir / "crate.png");
+  for (const auto& [option, file] :
+       {std::pair{"--parts-list", "crate.mtl"}, std::pair{"--bricklink", "crate.png"}}) {
+    auto run = run_tool("legolize",
+                        {(dir / "crate.obj").string(), "--height", "3", "-o",
+                         (dir / "out.ldr").string(), option, (dir / file).string(), "--quiet"});
+    EXPECT_EQ(run.exit_code, 2) << option;
+    EXPECT_NE(run.err.find(std::string(option) + ": would overwrite the input"), std::string::npos)
+        << run.err;
+  }
+  EXPECT_EQ(contents(dir / "crate.mtl"), mtl);
+  EXPECT_EQ(contents(dir / "crate.png"), png);
+  EXPECT_FALSE(fs::exists(dir / "out.ldr"));
+}
+
+// --max-seconds ends the run whatever stage it is in (here the refinement, told to take its
+// whole course), with exit 4, where it was, and nothing written.
+TEST(Legolize, MaxSecondsEndsTheRunWhereverItIs) {
+  const fs::path dir = scratch("max-seconds");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const auto start = std::chrono::steady_clock::now();
+  auto run =
+      run_tool("legolize", {sample("crate.obj").string(), "--height", "30", "--refine-seconds",
+                            kUnhurried, "--max-seconds", "1", "-o", (dir / "out.ldr").string(),
+                            "--report", (dir / "out.json").string(), "--quiet"});
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+  EXPECT_EQ(run.exit_code, 4) << run.err;
+  EXPECT_NE(run.err.find("legolize: out of time (1 s); the run was at: "), std::string::npos)
+      << run.err;
+  EXPECT_NE(run.err.find("nothing was written"), std::string::npos) << run.err;
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
+// A voxel budget larger than the machine's memory could ever hold is refused before any work.
+TEST(Legolize, AVoxelBudgetBeyondTheMachinesMemoryIsRefused) {
+  auto run = run_tool("legolize", {sample("crate.obj").string(), "--max-voxels", "99999999999",
+                                   "-o", scratch("huge.ldr").string(), "--quiet"});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("--max-voxels: a grid of 99999999999 voxels needs about 1490.1 GB, and "),
+            std::string::npos)
+      << run.err;
+  EXPECT_FALSE(fs::exists(scratch("huge.ldr")));
+}
+
 // Stopped while writing its outputs (here: blocked on a report FIFO nobody reads, after the model's
 // temporary is written), legolize leaves the old model whole and no temporary behind.
 TEST(Legolize, AStopWhileWritingLeavesTheOldFilesAndNoTemporary) {
@@ -816,24 +875,32 @@ TEST(Legolize, AStopWhileWritingLeavesTheOldFilesAndNoTemporary) {
             model.c_str(), "--report", fifo.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
-  // The model's temporary: model.ldr.tmp-legolization-XXXXXX.
+  // The private folder the outputs are written in: .tmp-legolization-XXXXXX/model.ldr.
   auto temporary = [&] {
     for (const auto& e : fs::directory_iterator(dir))
-      if (e.path().filename().string().starts_with("model.ldr.tmp-legolization")) return true;
+      if (e.path().filename().string().starts_with(".tmp-legolization") &&
+          fs::exists(e.path() / "model.ldr"))
+        return true;
+    return false;
+  };
+  auto leftovers = [&] {
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().filename().string().find("tmp-legolization") != std::string::npos) return true;
     return false;
   };
   for (int i = 0; i < 600 && !temporary(); ++i) ::usleep(50000);
-  ASSERT_TRUE(temporary()) << "legolize never reached its outputs";
+  const bool reached = temporary();
   ::usleep(100000);  // into the blocking open of the FIFO
   ::kill(pid, SIGTERM);
   int status = 0;
   ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(reached) << "legolize never reached its outputs";
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
   std::ifstream in(model);
   std::string line;
   std::getline(in, line);
   EXPECT_EQ(line, "0 the old model");
-  EXPECT_FALSE(temporary());
+  EXPECT_FALSE(leftovers());
 }
 
 // A mesh its reader crashes or hangs on (Assimp segfaults on an MTL that gives a texture before any

@@ -1,5 +1,6 @@
 // The run's time budget: what a spent one says, and that an unlimited one never stops a run.
 #include "core/budget.h"
+#include "core/memory.h"
 
 #include <gtest/gtest.h>
 
@@ -36,6 +37,14 @@ TEST(Budget, WithoutALimitARunNeverStops) {
   EXPECT_FALSE(unlimited.spent());
   EXPECT_GT(unlimited.seconds_left(), 1e300);
   EXPECT_EQ(stop_message(unlimited, kPartKnowledge, 1, 2), "not stopped");
+}
+
+// The memory budget says what needs how much, and what there is; what fits passes.
+TEST(Budget, MemoryShortfallSaysWhatNeedsHowMuch) {
+  EXPECT_EQ(memory_shortfall(1 << 20, "a small model"), "");
+  const std::string why = memory_shortfall(1e18, "a model of 10^18 bytes");
+  EXPECT_TRUE(why.starts_with("a model of 10^18 bytes needs about 931322574.6 GB, and ")) << why;
+  EXPECT_TRUE(why.ends_with(" GB is available")) << why;
 }
 
 }  // namespace
