@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 #include <mutex>
+#include <optional>
 #include <set>
 
 #include "app/number_checks.h"
@@ -187,8 +188,9 @@ FileReport check_file(const std::string& file, size_t files, const Settings& s,
     ProgressLine progress(s.progress, file);
     report::AuditOptions options = s.options;
     options.progress = progress.sink();
+    std::optional<stop::Deadline> deadline;
     if (s.hard_deadline)
-      stop::set_deadline(hard_deadline(options), kUndecided, [&s, file] {
+      deadline.emplace(hard_deadline(options), kUndecided, [&s, file] {
         report::Audit ended;
         ended.file = file;
         ended.verdict = report::Verdict::Undecided;
@@ -203,7 +205,6 @@ FileReport check_file(const std::string& file, size_t files, const Settings& s,
         return file + ": " + ended.out_of_time;
       });
     audit = report::audit_file(file, options, library);
-    if (s.hard_deadline) stop::clear_deadline();
   } catch (const InputError& e) {
     audit.file = file;
     audit.verdict = report::Verdict::Unreadable;

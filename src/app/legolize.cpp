@@ -923,8 +923,9 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : kExitBadInput;
   }
   Run run(o);
+  std::optional<stop::Deadline> deadline;  // ended before `run` is
   if (o.max_seconds > 0)
-    stop::set_deadline(o.max_seconds, kExitUndecided, [&run, &o] {
+    deadline.emplace(o.max_seconds, kExitUndecided, [&run, &o] {
       return fmt::format("out of time ({:g} s); {}", o.max_seconds, run.where());
     });
   try {

@@ -104,9 +104,13 @@ sigset_t stop_signal_set() {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     ::kill(c.group ? -c.pid : c.pid, SIGKILL);
   }
+  // Again while it is there: the thread that made it may be removing it too, and remove_all
+  // gives up at the first entry the other removed first.
   for (const auto& [id, path] : removed) {
     std::error_code ec;
-    std::filesystem::remove_all(path, ec);
+    for (int tries = 0;
+         tries < 10 && std::filesystem::exists(std::filesystem::symlink_status(path, ec)); ++tries)
+      std::filesystem::remove_all(path, ec);
   }
   if (signal_number > 0) {
     // Ended by the signal itself, as if nothing had caught it: the shell and make see that.
@@ -207,7 +211,7 @@ void install(const std::string& program) {
   std::thread(stop_thread).detach();
 }
 
-void set_deadline(double seconds, int exit_code, std::function<std::string()> where) {
+Deadline::Deadline(double seconds, int exit_code, std::function<std::string()> where) {
   State& s = state();
   {
     const std::lock_guard lock(s.mutex);
@@ -219,7 +223,8 @@ void set_deadline(double seconds, int exit_code, std::function<std::string()> wh
   if (g_installed) wake_stop_thread();
 }
 
-void clear_deadline() {
+// `where` is only called under the mutex: once this returns, it never is again.
+Deadline::~Deadline() {
   State& s = state();
   const std::lock_guard lock(s.mutex);
   s.deadline.reset();

@@ -28,11 +28,16 @@ namespace lego::stop {
 // stack).
 void install(const std::string& program);
 
-// Ends the process with `exit_code` once `seconds` have passed since this call (a later call
-// moves the deadline), printing "PROGRAM: " followed by what `where` says then. Needs `install`.
-void set_deadline(double seconds, int exit_code, std::function<std::string()> where);
-// No deadline any more.
-void clear_deadline();
+// While alive: the process ends with `exit_code` once `seconds` have passed, printing
+// "PROGRAM: " followed by what `where` says then (called from the stop thread, never after this
+// is destroyed). One at a time. Needs `install`.
+class Deadline {
+ public:
+  Deadline(double seconds, int exit_code, std::function<std::string()> where);
+  ~Deadline();
+  Deadline(const Deadline&) = delete;
+  Deadline& operator=(const Deadline&) = delete;
+};
 
 // While one is alive, a stop waits: renames that put a set of outputs in place all happen, or
 // none.

@@ -97,8 +97,11 @@ TEST(Stop, TheDeadlineEndsTheRunWithItsCodeAndWords) {
   const int status = in_child([&] {
     ::freopen((dir / "err").c_str(), "w", stderr);
     install("test");
-    set_deadline(100, 3, [] { return std::string("never said"); });
-    set_deadline(0.2, 4, [] { return std::string("out of time (0.2 s) in the refinement"); });
+    {
+      const Deadline ended(0.1, 3, [] { return std::string("never said"); });
+    }
+    const Deadline deadline(0.2, 4,
+                            [] { return std::string("out of time (0.2 s) in the refinement"); });
     std::this_thread::sleep_for(10s);
   });
   EXPECT_LT(std::chrono::steady_clock::now() - start, 5s);
