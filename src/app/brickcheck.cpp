@@ -128,20 +128,35 @@ int exit_code(report::Verdict verdict) {
 }
 
 // What the command line asks of every file.
+// The files' results as they are reported, in order (JSON is printed at the end, as one array).
+// A file's hard deadline, in the stop's thread, ends the run with them.
+struct Reported {
+  std::mutex mutex;
+  int worst = kStable;
+  nlohmann::json all = nlohmann::json::array();
+  size_t files = 0;
+};
+
+// Titles and names are the user's bytes: text that is not UTF-8 is shown with U+FFFD.
+void print_json(const nlohmann::json& j) {
+  std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n"
+            << std::flush;
+}
+
 struct Settings {
   report::AuditOptions options;
   bool json = false, quiet = false;
   bool progress = false;  // a progress line on stderr for long stages
-  // One file: --max-seconds also ends the process a little after the budget, for a stage that
-  // cannot check it (one factorization of a Datsville streets file took 172 s past a 10 s
-  // budget). Several files keep the others' results instead.
-  bool hard_deadline = false;
+  // What has been reported of the files so far: a file's hard deadline (below) reads it.
+  Reported* reported = nullptr;
   std::string heatmap, instructions, ldraw_dir, main_model;
 };
 
-// How long past --max-seconds (and its build steps' as much again) the process may run before it
-// is ended: a quarter, and two seconds (a stage that checks the budget stops well within that,
-// under the sanitizers too).
+// --max-seconds also ends the process a little after the budget, for a stage that cannot check it
+// (one factorization of a Datsville streets file took 172 s past a 10 s budget; a pipe nobody
+// writes never ends): a quarter past the budget (and its build steps' as much again), and two
+// seconds (a stage that checks the budget stops well within that, under the sanitizers too). The
+// files not reported by then are not checked.
 double hard_deadline(const report::AuditOptions& o) {
   return o.stability.max_seconds * (o.steps ? 2 : 1) * 1.25 + 2;
 }
@@ -188,22 +203,30 @@ FileReport check_file(const std::string& file, size_t files, const Settings& s,
     ProgressLine progress(s.progress, file);
     report::AuditOptions options = s.options;
     options.progress = progress.sink();
-    std::optional<stop::Deadline> deadline;
-    if (s.hard_deadline)
-      deadline.emplace(hard_deadline(options), kUndecided, [&s, file] {
-        report::Audit ended;
-        ended.file = file;
-        ended.verdict = report::Verdict::Undecided;
-        ended.out_of_time = fmt::format(
-            "out of time ({:g} s): a stage that cannot stop itself (reading a pipe, one "
-            "factorization) ran on past it, and the run was ended",
-            s.options.stability.max_seconds);
-        if (s.json)
-          std::cout << report::render_json(ended, s.options).dump(2) << "\n" << std::flush;
-        else
-          std::cout << report::render_text(ended, true) << std::flush;
-        return file + ": " + ended.out_of_time;
-      });
+    const stop::Deadline deadline(hard_deadline(options), [&s, file] {
+      report::Audit ended;
+      ended.file = file;
+      ended.verdict = report::Verdict::Undecided;
+      ended.out_of_time = fmt::format(
+          "out of time ({:g} s): a stage that cannot stop itself (reading a pipe, one "
+          "factorization) ran on past it, and the run was ended",
+          s.options.stability.max_seconds);
+      Reported& reported = *s.reported;
+      const std::lock_guard lock(reported.mutex);
+      if (!s.json) {
+        std::cout << report::render_text(ended, true) << std::flush;
+      } else if (reported.files == 1) {
+        print_json(report::render_json(ended, s.options));
+      } else {
+        nlohmann::json all = reported.all;
+        all.push_back(report::render_json(ended, s.options));
+        print_json(all);
+      }
+      std::string words = file + ": " + ended.out_of_time;
+      if (reported.files > 1) words += "; the files not reported were not checked";
+      return stop::Ending{words,
+                          rank(kUndecided) > rank(reported.worst) ? kUndecided : reported.worst};
+    });
     audit = report::audit_file(file, options, library);
   } catch (const InputError& e) {
     audit.file = file;
@@ -390,25 +413,23 @@ int main(int argc, char** argv) {
   const int jobs_used = int(std::min(size_t(jobs), files.size()));
   // On a terminal only, and for one file at a time: lines of files checked at once would mix.
   const bool progress = !quiet && jobs_used == 1 && ::isatty(STDERR_FILENO);
-  Settings settings{options, json,         quiet,     progress,  files.size() == 1,
+  Reported reported;
+  reported.files = files.size();
+  Settings settings{options, json,         quiet,     progress,  &reported,
                     heatmap, instructions, ldraw_dir, main_model};
   parts::PartLibrary library(options.read.library_dirs, BrickCatalog::standard());
   auto check = [&](size_t i) { return check_file(files[i], files.size(), settings, library); };
-  int worst = kStable;
-  nlohmann::json all = nlohmann::json::array();
   const physics::OneBlasThreadEach blas_threads(jobs_used > 1);
   run_in_order<FileReport>(files.size(), jobs_used, check, [&](size_t, FileReport&& r) {
-    if (rank(r.code) > rank(worst)) worst = r.code;
+    const std::lock_guard lock(reported.mutex);
+    if (rank(r.code) > rank(reported.worst)) reported.worst = r.code;
     if (json)
-      all.push_back(std::move(r.json));
+      reported.all.push_back(std::move(r.json));
     else
       std::cout << r.text << std::flush;
     std::cerr << r.errors << std::flush;
   });
-  // Titles and names are the user's bytes: text that is not UTF-8 is shown with U+FFFD.
-  if (json)
-    std::cout << (files.size() == 1 ? all[0] : all)
-                     .dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
-              << "\n";
-  return worst;
+  const std::lock_guard lock(reported.mutex);
+  if (json) print_json(files.size() == 1 ? reported.all[0] : reported.all);
+  return reported.worst;
 }

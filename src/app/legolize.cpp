@@ -925,8 +925,9 @@ int main(int argc, char** argv) {
   Run run(o);
   std::optional<stop::Deadline> deadline;  // ended before `run` is
   if (o.max_seconds > 0)
-    deadline.emplace(o.max_seconds, kExitUndecided, [&run, &o] {
-      return fmt::format("out of time ({:g} s); {}", o.max_seconds, run.where());
+    deadline.emplace(o.max_seconds, [&run, &o] {
+      return stop::Ending{fmt::format("out of time ({:g} s); {}", o.max_seconds, run.where()),
+                          kExitUndecided};
     });
   try {
     Plan plan = check_options(o);

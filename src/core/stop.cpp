@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
@@ -35,13 +36,15 @@ struct Child {
 // The process's one stop: what it waits for, what it undoes.
 struct State {
   std::shared_mutex publishing;  // shared by each Publishing, taken whole by the stop
-  std::mutex mutex;              // the lists and the deadline
+  std::mutex mutex;              // the lists and the deadlines
   std::map<int, std::filesystem::path> removed;
   std::map<int, Child> children;
   int next_id = 0;
-  std::optional<Clock::time_point> deadline;
-  int deadline_exit_code = 0;
-  std::function<std::string()> where;
+  struct Timed {
+    Clock::time_point at;
+    std::function<Ending()> ending;
+  };
+  std::map<int, Timed> deadlines;
   std::string program;
   int pipe_read = -1, pipe_write = -1;
 };
@@ -137,28 +140,31 @@ void stop_thread() {
     int timeout_ms = -1;
     {
       const std::lock_guard lock(s.mutex);
-      if (s.deadline) {
-        const auto left = std::chrono::ceil<std::chrono::milliseconds>(*s.deadline - Clock::now());
-        timeout_ms = int(std::max<long long>(0, std::min<long long>(left.count(), 1 << 30)));
+      for (const auto& [id, timed] : s.deadlines) {
+        const auto left = std::chrono::ceil<std::chrono::milliseconds>(timed.at - Clock::now());
+        const int ms = int(std::clamp<long long>(left.count(), 0, 1 << 30));
+        if (timeout_ms < 0 || ms < timeout_ms) timeout_ms = ms;
       }
     }
     pollfd p{s.pipe_read, POLLIN, 0};
     const int ready = ::poll(&p, 1, timeout_ms);
     if (ready < 0) continue;  // EINTR: the handler ran here
     if (ready == 0) {
-      std::string message;
-      int code = 0;
+      std::optional<Ending> ending;
       {
         const std::lock_guard lock(s.mutex);
-        if (!s.deadline || Clock::now() < *s.deadline) continue;
-        message = s.where ? s.where() : "out of time";
-        code = s.deadline_exit_code;
+        for (const auto& [id, timed] : s.deadlines)
+          if (Clock::now() >= timed.at) {
+            ending = timed.ending ? timed.ending() : Ending{"out of time", 1};
+            break;
+          }
       }
-      end(0, message, code);
+      if (ending) end(0, ending->words, ending->exit_code);
+      continue;
     }
     unsigned char byte = 0;
     if (::read(s.pipe_read, &byte, 1) == 1 && byte != 0) end(byte, "", 0);
-    // 0: the deadline moved
+    // 0: the deadlines changed
   }
 }
 
@@ -211,24 +217,17 @@ void install(const std::string& program) {
   std::thread(stop_thread).detach();
 }
 
-Deadline::Deadline(double seconds, int exit_code, std::function<std::string()> where) {
-  State& s = state();
-  {
-    const std::lock_guard lock(s.mutex);
-    s.deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                    std::chrono::duration<double>(seconds));
-    s.deadline_exit_code = exit_code;
-    s.where = std::move(where);
-  }
+Deadline::Deadline(double seconds, std::function<Ending()> ending)
+    : id_(add_to(state().deadlines,
+                 State::Timed{Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                 std::chrono::duration<double>(seconds)),
+                              std::move(ending)})) {
   if (g_installed) wake_stop_thread();
 }
 
-// `where` is only called under the mutex: once this returns, it never is again.
+// An ending is only called under the mutex: once this returns, it never is again.
 Deadline::~Deadline() {
-  State& s = state();
-  const std::lock_guard lock(s.mutex);
-  s.deadline.reset();
-  s.where = {};
+  remove_from(state().deadlines, id_);
 }
 
 Publishing::Publishing() {

@@ -28,15 +28,24 @@ namespace lego::stop {
 // stack).
 void install(const std::string& program);
 
-// While alive: the process ends with `exit_code` once `seconds` have passed, printing
-// "PROGRAM: " followed by what `where` says then (called from the stop thread, never after this
-// is destroyed). One at a time. Needs `install`.
+// How a deadline ends the process: the line printed after "PROGRAM: ", and the exit code.
+struct Ending {
+  std::string words;
+  int exit_code = 0;
+};
+
+// While alive: once `seconds` have passed, the process ends as `ending` says then (called from the
+// stop thread, never after this is destroyed). Several may be alive at once (a file each); the
+// first to pass ends the process.
 class Deadline {
  public:
-  Deadline(double seconds, int exit_code, std::function<std::string()> where);
+  Deadline(double seconds, std::function<Ending()> ending);
   ~Deadline();
   Deadline(const Deadline&) = delete;
   Deadline& operator=(const Deadline&) = delete;
+
+ private:
+  int id_;
 };
 
 // While one is alive, a stop waits: renames that put a set of outputs in place all happen, or

@@ -886,7 +886,8 @@ TEST(Brickcheck, MaxSecondsStopsTheRunWhereverItIs) {
 }
 
 // A stage that cannot check the budget (here: opening a pipe nobody writes; in a real streets file,
-// one factorization of 172 s) is ended a little after it: exit 4, the verdict as text or JSON.
+// one factorization of 172 s) is ended a little after it: exit 4, the verdict as text or JSON,
+// with the files reported before it.
 TEST(Brickcheck, MaxSecondsHoldsWhereAStageCannotStopItself) {
   const fs::path fifo = scratch("nobody-writes.ldr");
   fs::remove(fifo);
@@ -902,6 +903,14 @@ TEST(Brickcheck, MaxSecondsHoldsWhereAStageCannotStopItself) {
   json j = check_json({"--max-seconds", "1", fifo.string()}, 4);
   EXPECT_EQ(j["verdict"], "undecided");
   EXPECT_EQ(j["status"], "out of time");
+  // Among several files: those reported before it are kept, those after are not checked.
+  const fs::path two = scratch("two-bricks.ldr");
+  std::ofstream(two) << "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                        "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n";
+  json all = check_json({"--max-seconds", "1", two.string(), fifo.string(), two.string()}, 4);
+  ASSERT_EQ(all.size(), 2u) << all;
+  EXPECT_EQ(all[0]["verdict"], "stable");
+  EXPECT_EQ(all[1]["status"], "out of time");
   fs::remove(fifo);
 }
 

@@ -91,17 +91,18 @@ TEST(Stop, AStopWaitsWhileOutputsArePublished) {
   EXPECT_TRUE(fs::exists(dir / "second"));
 }
 
-TEST(Stop, TheDeadlineEndsTheRunWithItsCodeAndWords) {
+// A deadline gone never ends the run; of those alive, the first to pass does.
+TEST(Stop, TheFirstDeadlineEndsTheRunWithItsCodeAndWords) {
   const fs::path dir = fresh_dir("deadline");
   const auto start = std::chrono::steady_clock::now();
   const int status = in_child([&] {
     ::freopen((dir / "err").c_str(), "w", stderr);
     install("test");
     {
-      const Deadline ended(0.1, 3, [] { return std::string("never said"); });
+      const Deadline ended(0.1, [] { return Ending{"never said", 3}; });
     }
-    const Deadline deadline(0.2, 4,
-                            [] { return std::string("out of time (0.2 s) in the refinement"); });
+    const Deadline later(5, [] { return Ending{"said too late", 5}; });
+    const Deadline deadline(0.2, [] { return Ending{"out of time (0.2 s) in the refinement", 4}; });
     std::this_thread::sleep_for(10s);
   });
   EXPECT_LT(std::chrono::steady_clock::now() - start, 5s);
