@@ -248,7 +248,7 @@ void write_new_file(const std::filesystem::path& written, const std::filesystem:
   const auto old = std::filesystem::status(path, ec);
   const mode_t mode = !ec && std::filesystem::is_regular_file(old)
                           ? mode_t(old.permissions()) & 07777
-                          : 0666 & ~kUmask;
+                          : new_file_mode(false);
   const int fd =
       ::open(written.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
   if (fd < 0) throw InputError(path.string(), 0, "cannot write here");
