@@ -45,6 +45,8 @@ struct State {
     std::function<Ending()> ending;
   };
   std::map<int, Timed> deadlines;
+  // The stop has taken its lists: what is made from now on is undone by whoever makes it.
+  bool listed = false;
   std::string program;
   int pipe_read = -1, pipe_write = -1;
 };
@@ -94,6 +96,7 @@ sigset_t stop_signal_set() {
     const std::lock_guard lock(s.mutex);
     children = s.children;
     removed = s.removed;
+    s.listed = true;
   }
   if (!message.empty()) {
     const std::string line = s.program + ": " + message + "\n";
@@ -237,20 +240,41 @@ Publishing::~Publishing() {
   state().publishing.unlock_shared();
 }
 
-RemovedOnStop::RemovedOnStop(std::filesystem::path path)
-    : id_(add_to(state().removed, std::move(path))) {}
+RemovedOnStop::RemovedOnStop(std::filesystem::path path) {
+  {
+    const std::lock_guard lock(state().mutex);
+    if (!state().listed) {
+      id_ = state().next_id++;
+      state().removed.emplace(id_, std::move(path));
+      return;
+    }
+  }
+  std::error_code ec;  // made after the stop looked: removed here, and the stop ends the process
+  std::filesystem::remove_all(path, ec);
+  wait_for_the_stop();
+}
 RemovedOnStop::~RemovedOnStop() {
   remove_from(state().removed, id_);
 }
 
-ChildOnStop::ChildOnStop(pid_t pid, bool group)
-    : id_(add_to(state().children, Child{pid, group})) {}
+ChildOnStop::ChildOnStop(pid_t pid, bool group) {
+  {
+    const std::lock_guard lock(state().mutex);
+    if (!state().listed) {
+      id_ = state().next_id++;
+      state().children.emplace(id_, Child{pid, group});
+      return;
+    }
+  }
+  ::kill(group ? -pid : pid, SIGKILL);  // started after the stop looked
+  wait_for_the_stop();
+}
 ChildOnStop::~ChildOnStop() {
   remove_from(state().children, id_);
   wait_for_the_stop();
 }
 
-int run_command(const std::string& command) {
+int run_command(const std::string& command, double seconds) {
   posix_spawnattr_t attributes;
   ::posix_spawnattr_init(&attributes);
   sigset_t none, defaults = stop_signal_set();
@@ -264,9 +288,13 @@ int run_command(const std::string& command) {
   pid_t pid = -1;
   int id = -1;
   {
-    // Listed before a stop can look: a stop never misses a child started.
+    // Listed as it starts, and none started once the stop has looked: a stop never misses one.
     State& s = state();
-    const std::lock_guard lock(s.mutex);
+    std::unique_lock lock(s.mutex);
+    if (s.listed) {
+      lock.unlock();
+      wait_for_the_stop();
+    }
     if (::posix_spawn(&pid, "/bin/sh", nullptr, &attributes, const_cast<char**>(argv), environ) ==
         0) {
       id = s.next_id++;
@@ -276,8 +304,18 @@ int run_command(const std::string& command) {
   ::posix_spawnattr_destroy(&attributes);
   if (id < 0) return -1;
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(seconds > 0 ? seconds : 1e9));
+  // Waited for until the limit, then sent SIGTERM and a second later SIGKILL, the whole group.
+  pid_t done = 0;
+  for (int signal_number : {0, SIGTERM, SIGKILL}) {
+    if (signal_number != 0) ::kill(-pid, signal_number);
+    const auto limit = signal_number == 0 ? until : Clock::now() + std::chrono::seconds(1);
+    while ((done = ::waitpid(pid, &status, WNOHANG)) == 0 && Clock::now() < limit)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (done != 0) break;
   }
+  if (done == 0) ::waitpid(pid, &status, 0);
   remove_from(state().children, id);
   wait_for_the_stop();
   return status;

@@ -45,7 +45,7 @@ class Deadline {
   Deadline& operator=(const Deadline&) = delete;
 
  private:
-  int id_;
+  int id_ = -1;
 };
 
 // While one is alive, a stop waits: renames that put a set of outputs in place all happen, or
@@ -67,7 +67,7 @@ class RemovedOnStop {
   RemovedOnStop& operator=(const RemovedOnStop&) = delete;
 
  private:
-  int id_;
+  int id_ = -1;
 };
 
 // A child process (with `group`, its whole process group) stopped if the run is: SIGTERM, then
@@ -81,12 +81,14 @@ class ChildOnStop {
   ChildOnStop& operator=(const ChildOnStop&) = delete;
 
  private:
-  int id_;
+  int id_ = -1;
 };
 
 // Runs `command` with /bin/sh in a process group of its own, with the stop signals as a new
-// process has them, and waits for it; stopped with the run. Returns its wait status (-1: it could
-// not be started). std::system would not do: it ignores SIGINT while it waits.
-int run_command(const std::string& command);
+// process has them, and waits for it, at most `seconds` (0: no limit; past it the group gets
+// SIGTERM, then SIGKILL a second later); stopped with the run. Returns its wait status (-1: it
+// could not be started). std::system would not do: it ignores SIGINT while it waits, and
+// `timeout` would take the command into a process group the stop does not reach.
+int run_command(const std::string& command, double seconds = 0);
 
 }  // namespace lego::stop

@@ -234,9 +234,7 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
                                            : int(booklet.steps.size());
   auto leocad = [&](const std::string& image, int from, int to, bool highlight) {
     const std::string command = fmt::format(
-        "{}{}leocad -l {} {}-i {} -w {} -h {} -f {} -t {} --camera-angles 30 45 {} {} >{} 2>&1",
-        // A renderer that hangs (no X server after all) must not hang the tool.
-        have("timeout") ? fmt::format("timeout {} ", kRenderSeconds) : "",
+        "{}leocad -l {} {}-i {} -w {} -h {} -f {} -t {} --camera-angles 30 45 {} {} >{} 2>&1",
         display ? "" : "xvfb-run -a ", shell_quote(library.string()),
         shown_submodel.empty() ? std::string() : "-s " + shell_quote(shown_submodel) + " ",
         shell_quote((scratch / image).string()), kWidth, kHeight, from, to,
@@ -244,7 +242,8 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
             ? fmt::format("--highlight --highlight-color {} --fade-steps", shell_quote(kHighlight))
             : "--no-highlight --no-fade-steps",
         shell_quote(fs::absolute(shown).string()), shell_quote((scratch / "leocad.log").string()));
-    return stop::run_command(command) == 0;
+    // A renderer that hangs (no X server after all) must not hang the tool.
+    return stop::run_command(command, kRenderSeconds) == 0;
   };
   if (progress) progress(fmt::format("rendering {} steps with LeoCAD", booklet.steps.size()));
   const bool steps_ok = leocad("step.png", 1, last, true);

@@ -301,8 +301,12 @@ TEST_F(Booklet, AStopWhileRenderingLeavesTheOldBookletAndNoRenderer) {
   // "[/]tmp/...": the pattern does not match the shell that runs pgrep with it.
   const std::string pattern =
       "[" + scratch.string().substr(0, 1) + "]" + scratch.string().substr(1);
-  EXPECT_NE(std::system(("pgrep -f " + test::quote(pattern) + " >/dev/null").c_str()), 0)
-      << "a renderer outlived the run";
+  const fs::path survivors = dir_ / "survivors.txt";
+  EXPECT_NE(
+      std::system(
+          ("pgrep -af " + test::quote(pattern) + " >" + test::quote(survivors.string())).c_str()),
+      0)
+      << "a renderer outlived the run: " << text_of(survivors);
 }
 
 }  // namespace

@@ -34,6 +34,15 @@ int in_child(const std::function<void()>& body) {
   return status;
 }
 
+// Running, not a zombie waiting for a parent that no longer is to reap it.
+bool running(pid_t pid) {
+  if (::kill(pid, 0) != 0) return false;
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string pid_text, name, state;
+  stat >> pid_text >> name >> state;
+  return state != "Z";
+}
+
 fs::path fresh_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("lego_stop_" + name);
   fs::remove_all(dir);
@@ -133,9 +142,26 @@ TEST(Stop, ChildrenAreStoppedWithTheRun) {
   in >> child;
   ASSERT_GT(child, 0);
   std::this_thread::sleep_for(100ms);
-  EXPECT_NE(::kill(child, 0), 0) << "the child outlived the run";
+  EXPECT_FALSE(running(child)) << "the child outlived the run";
   EXPECT_FALSE(fs::exists(dir / "survived"));
   EXPECT_EQ(run_command("exit 3"), 3 << 8);
+}
+
+// A command past its time limit is stopped, its whole process group (a shell's background job
+// too, as xvfb-run's X server is).
+TEST(Stop, ACommandPastItsLimitIsStoppedWithWhatItStarted) {
+  const fs::path dir = fresh_dir("limit");
+  const auto start = std::chrono::steady_clock::now();
+  const int status =
+      run_command("sleep 30 & echo $! > " + (dir / "pid").string() + "; sleep 30", 0.3);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, 5s);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
+  std::ifstream in(dir / "pid");
+  pid_t background = 0;
+  in >> background;
+  ASSERT_GT(background, 0);
+  std::this_thread::sleep_for(100ms);
+  EXPECT_FALSE(running(background)) << "the background job outlived the limit";
 }
 
 // METIS's signal() calls leave the stop's handlers in place.
