@@ -24,6 +24,8 @@ struct BrickType {
   PartShape shape;         // empty body: the box of length x width x height (box_brick_shape)
   bool baseplate = false;  // the library says so: at the bottom of a model it is the ground
   bool pivots = false;     // a hinge or turntable half: it turns on its other half
+  // A wheel or a tyre with its axle line: round about it, it meets a table along a strip.
+  bool rolls = false;
 };
 
 // The parts we support, read from ldraw_parts/catalog.csv. Types have stable addresses, so

@@ -45,7 +45,8 @@ struct Box {
 struct Shaft {
   // A friction pin's ridges grip its hole: it turns, but holds a little (docs/physics.md). A
   // knuckle is a hinge or turntable half's round surface on its turning line; a locking hinge's
-  // knuckles click in place and hold. A clip grips a bar (3.2 mm across) on its line.
+  // knuckles click in place and hold. A clip grips a bar (3.2 mm across) on its line. A wheel
+  // turns on a pin or an axle in its hub, and its rim is gripped by the tyre stretched over it.
   enum class Kind : uint8_t {
     PinHole,
     AxleHole,
@@ -55,21 +56,32 @@ struct Shaft {
     Knuckle,
     LockingKnuckle,
     Clip,
-    Bar
+    Bar,
+    Hub,
+    Rim,
+    Tyre
   };
   Kind kind = Kind::PinHole;
   Vec3 a{0, 0, 0}, b{0, 0, 0};
   bool hole() const { return kind == Kind::PinHole || kind == Kind::AxleHole; }
   bool knuckle() const { return kind == Kind::Knuckle || kind == Kind::LockingKnuckle; }
   // What another part's shaft goes into, or meets on its line: a hole, a knuckle, a clip.
-  bool receives() const { return hole() || knuckle() || kind == Kind::Clip; }
+  bool receives() const {
+    return hole() || knuckle() || kind == Kind::Clip || kind == Kind::Hub || kind == Kind::Tyre;
+  }
+  // A wheel's hub and rim and a tyre: parts drawn by eye, whose lines may lie a pin's radius
+  // apart (docs/physics.md, "Wheels").
+  bool wheel() const { return kind == Kind::Hub || kind == Kind::Rim || kind == Kind::Tyre; }
   // Whether `inserted` (a shaft that does not receive) joins `receiver` where they share a line:
-  // a pin or an axle in a hole, a knuckle on a knuckle, a bar in a clip.
+  // a pin or an axle in a hole or a wheel's hub, a knuckle on a knuckle, a bar in a clip, a rim in
+  // a tyre.
   static bool fits(const Shaft& inserted, const Shaft& receiver) {
     if (inserted.knuckle() || receiver.knuckle()) return inserted.knuckle() && receiver.knuckle();
     if (inserted.kind == Kind::Bar || receiver.kind == Kind::Clip)
       return inserted.kind == Kind::Bar && receiver.kind == Kind::Clip;
-    return receiver.hole() && !inserted.hole();
+    if (inserted.kind == Kind::Rim || receiver.kind == Kind::Tyre)
+      return inserted.kind == Kind::Rim && receiver.kind == Kind::Tyre;
+    return (receiver.hole() || receiver.kind == Kind::Hub) && !inserted.hole();
   }
   // The axis it lies along (0, 1, 2): the one its two ends differ on most.
   int axis() const {
@@ -83,7 +95,8 @@ struct Shaft {
 
 struct PartShape {
   std::vector<Connector> studs, receptacles;
-  std::vector<Shaft> shafts;  // Technic holes, pins and axles; a hinge's knuckles; bars, clips
+  // Technic holes, pins and axles; a hinge's knuckles; bars, clips; a wheel's hub and rim, a tyre
+  std::vector<Shaft> shafts;
   // Receptacles inside the tubes between four cells (stud4.dat), half a stud off the cells: where
   // a jumper plate's offset stud goes. Not cells: the ground's studs never reach them.
   std::vector<Connector> bores;

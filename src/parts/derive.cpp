@@ -171,7 +171,7 @@ std::string carried_by_name(const PartGeometry& g) {
   if (first == "Turntable") return "a turntable (it turns)";
   if (first == "Door" && !title.starts_with("Door Frame")) return "a door (it hangs on hinge pins)";
   if (first == "Wheel" || first == "Tyre" || first == "Tire")
-    return "a wheel or tyre (its axle is not modelled)";
+    return "a wheel or tyre whose axle line its file does not draw";
   return {};
 }
 
@@ -273,6 +273,74 @@ std::vector<Shaft> bars_and_clips(const PartGeometry& g) {
       if (hi - lo >= 1 && drawn >= least_turn * (hi - lo)) out.push_back(whole);
     }
   }
+  return out;
+}
+
+enum class Rolling { No, Wheel, Tyre };
+Rolling rolling(const PartGeometry& g) {
+  const std::string first = first_word(g);
+  if (first == "Wheel") return Rolling::Wheel;
+  if (first == "Tyre" || first == "Tire") return Rolling::Tyre;
+  return Rolling::No;
+}
+
+// The line a wheel or a tyre turns about: the one its round surfaces are drawn on most (their
+// length times the share of a turn they draw, times their radius: the tread outweighs a hub's
+// details). Drawn without cylinder primitives (a tread of segments turned about the axle), a part
+// round about an axis is as wide as high across it: the axis is the one whose two others agree,
+// the line through the middle. None for a part round every way or no way.
+std::optional<ShaftLine> turning_line(const PartGeometry& g, const Box& bounds) {
+  std::map<ShaftLine, double> weight;
+  for (const Round& r : g.rounds) {
+    const Shaft s{Shaft::Kind::Knuckle, r.a, r.b};
+    weight[line_of(s)] +=
+        r.turn * r.radius * std::abs(s.a[size_t(s.axis())] - s.b[size_t(s.axis())]);
+  }
+  if (!weight.empty())
+    return std::max_element(weight.begin(), weight.end(),
+                            [](const auto& x, const auto& y) { return x.second < y.second; })
+        ->first;
+  std::optional<ShaftLine> line;
+  for (int k = 0; k < 3; ++k) {
+    const size_t u = size_t(k + 1) % 3, v = size_t(k + 2) % 3;
+    const double du = bounds.max[u] - bounds.min[u], dv = bounds.max[v] - bounds.min[v];
+    if (std::abs(du - dv) > 1 || du <= bounds.max[size_t(k)] - bounds.min[size_t(k)]) continue;
+    if (line) return std::nullopt;
+    Shaft middle{Shaft::Kind::Knuckle, {0, 0, 0}, {0, 0, 0}};
+    middle.b[size_t(k)] = 1;
+    for (size_t a : {u, v}) middle.a[a] = middle.b[a] = (bounds.min[a] + bounds.max[a]) / 2;
+    line = line_of(middle);
+  }
+  return line;
+}
+
+// On its turning line, across its whole width, a wheel has its hub (where a wheel pin, a pin or
+// an axle turns, unless its file draws a Technic hole there) and its rim; a tyre takes a rim.
+// None where the line is not found.
+std::vector<Shaft> axle_line(const PartGeometry& g, Rolling kind, const std::vector<Shaft>& drawn,
+                             const Box& bounds) {
+  const std::optional<ShaftLine> line = turning_line(g, bounds);
+  if (!line) return {};
+  const auto [axis, u, v] = *line;
+  Shaft across;
+  across.a[size_t(axis)] = bounds.min[size_t(axis)];
+  across.b[size_t(axis)] = bounds.max[size_t(axis)];
+  across.a[size_t((axis + 1) % 3)] = across.b[size_t((axis + 1) % 3)] = u;
+  across.a[size_t((axis + 2) % 3)] = across.b[size_t((axis + 2) % 3)] = v;
+  std::vector<Shaft> out;
+  auto with = [&](Shaft::Kind kind) {
+    Shaft s = across;
+    s.kind = kind;
+    out.push_back(s);
+  };
+  if (kind == Rolling::Tyre) {
+    with(Shaft::Kind::Tyre);
+    return out;
+  }
+  with(Shaft::Kind::Rim);
+  const bool technic_hub = std::any_of(
+      drawn.begin(), drawn.end(), [&](const Shaft& s) { return s.hole() && line_of(s) == *line; });
+  if (!technic_hub) with(Shaft::Kind::Hub);
   return out;
 }
 
@@ -380,11 +448,21 @@ Receptacles receptacles(const PartGeometry& g) {
     for (int k = 0; z_first + half * k <= bb.max[2] - half + kEps; ++k) {
       const double x = x_first + half * i, z = z_first + half * k;
       const auto near = grid.near(x - half - 1, x + half + 1, z - half - 1, z + half + 1);
-      // The bottom of the part here: the lowest point of what lies over this cell.
+      // The bottom of the part here: the lowest point of what lies over this cell. A face that
+      // only meets its border (the end of a wheel pin beside a plate's cell) is a neighbour's.
+      auto on_border = [&](const Polygon& p) {
+        for (const auto& [axis, at] : {std::pair(0, x - half), std::pair(0, x + half),
+                                       std::pair(2, z - half), std::pair(2, z + half)})
+          if (std::all_of(p.begin(), p.end(),
+                          [&](const Vec3& v) { return std::abs(v[size_t(axis)] - at) < kEps; }))
+            return true;
+        return false;
+      };
       double plane = -1e300;
       for (int f : near)
-        for (const Vec3& v : clipped(g.faces[size_t(f)], x - half, x + half, z - half, z + half))
-          plane = std::max(plane, v[1]);
+        if (const Polygon p = clipped(g.faces[size_t(f)], x - half, x + half, z - half, z + half);
+            !on_border(p))
+          for (const Vec3& v : p) plane = std::max(plane, v[1]);
       if (plane < -1e299) continue;
       bool blocked = false;
       for (int f : near) {
@@ -499,8 +577,14 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   t.shape.outline = outline(g);
   t.baseplate = g.category == "Baseplate" || g.title.starts_with("Baseplate");
   t.pivots = first_word(g) == "Hinge" || first_word(g) == "Turntable";
-  // A hinge's round surfaces are its knuckles (its pin among them), and nothing else.
-  const std::vector<Shaft> rounds = t.pivots ? knuckles(g) : bars_and_clips(g);
+  // A hinge's round surfaces are its knuckles (its pin among them), and nothing else; a wheel's
+  // and a tyre's are their axle line (a wheel's hub is no bar).
+  const Rolling rolls = rolling(g);
+  const std::vector<Shaft> rounds = t.pivots ? knuckles(g)
+                                    : rolls != Rolling::No
+                                        ? axle_line(g, rolls, t.shape.shafts, face_bounds(g))
+                                        : bars_and_clips(g);
+  t.rolls = rolls != Rolling::No && !rounds.empty();
   t.shape.shafts.insert(t.shape.shafts.end(), rounds.begin(), rounds.end());
   if (t.shape.body.empty()) {
     // Nothing but studs: a box around them keeps its weight somewhere.
@@ -530,7 +614,7 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   const bool turns_on_knuckles = std::any_of(t.shape.shafts.begin(), t.shape.shafts.end(),
                                              [](const Shaft& s) { return s.knuckle(); });
   if (k.carried_reason.empty() &&
-      (minifigure(g) || (t.shape.receptacles.empty() && !turns_on_knuckles)))
+      (minifigure(g) || (t.shape.receptacles.empty() && !turns_on_knuckles && !t.rolls)))
     k.carried_reason = carried_by_name(g);
   if (k.carried_reason.empty() && t.shape.studs.empty() && t.shape.receptacles.empty() &&
       t.shape.shafts.empty())

@@ -17,6 +17,11 @@ void grow(Rect& r, bool& has, const Rect& add) {
   r.u1 = std::max(r.u1, add.u1), r.v1 = std::max(r.v1, add.v1);
 }
 
+void widen_to_min_face(Rect& r) {
+  if (r.u1 - r.u0 < kMinFace) r.u0 -= kMinFace / 2, r.u1 += kMinFace / 2;
+  if (r.v1 - r.v0 < kMinFace) r.v0 -= kMinFace / 2, r.v1 += kMinFace / 2;
+}
+
 Rect in_plane(const Box& b, int axis) {
   const int f = kInPlane[axis][0], s = kInPlane[axis][1];
   return {b.min[f], b.min[s], b.max[f], b.max[s]};
@@ -32,6 +37,15 @@ Vec3 body_centre(const Brick& brick) {
     volume += v;
   }
   for (double& c : sum) c /= volume;
+  // A wheel or a tyre is round about its axle: its mass centre is on that line, wherever the
+  // boxes that stand for its body put theirs.
+  if (brick.type->rolls)
+    for (const Shaft& s : w.shafts)
+      if (s.kind == Shaft::Kind::Rim || s.kind == Shaft::Kind::Tyre) {
+        const int axis = s.axis();
+        for (int a : {(axis + 1) % 3, (axis + 2) % 3}) sum[size_t(a)] = s.a[size_t(a)];
+        break;
+      }
   return to_model(brick, sum);
 }
 

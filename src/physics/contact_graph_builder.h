@@ -39,6 +39,9 @@ struct Meeting {
 
 // `r` grown to cover `add` (`has`: whether r covers anything yet).
 void grow(Rect& r, bool& has, const Rect& add);
+// A patch of points (a tyre's strip, a carried part's lowest points) made at least kMinFace wide
+// each way, about its middle.
+void widen_to_min_face(Rect& r);
 // A box's extent in the plane across `axis`.
 Rect in_plane(const Box& b, int axis);
 // The friction points of one engaged stud, where it touches `upper`'s receptacle at `r`.
@@ -60,6 +63,7 @@ class ContactGraphBuilder {
   void engage_studs_across_lattices();
   void touch_faces();
   void stand_on_ground();
+  void stand_round_part_on_ground(int brick, const std::vector<Vec3>& outline);
   void gather_carried_parts();
   void merge_faces_into_stud_connections();
   void add_meeting_contacts();

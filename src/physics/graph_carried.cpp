@@ -191,8 +191,7 @@ void ContactGraphBuilder::support_carried_group(CarriedGroup& group, const Carri
     for (const Vec3& p : carried_outline_[size_t(c)])
       if (group.on_ground ? clearance(p) <= kSettleLdu : p[1] <= bottom + kCarriedReach)
         grow(m.patch, m.has_patch, {p[0], p[2], p[0], p[2]});
-  if (m.patch.u1 - m.patch.u0 < kMinFace) m.patch.u0 -= kMinFace / 2, m.patch.u1 += kMinFace / 2;
-  if (m.patch.v1 - m.patch.v0 < kMinFace) m.patch.v0 -= kMinFace / 2, m.patch.v1 += kMinFace / 2;
+  widen_to_min_face(m.patch);
   m.support = true;
 }
 

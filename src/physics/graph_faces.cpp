@@ -58,6 +58,26 @@ void ContactGraphBuilder::touch_faces() {
   g_.overlaps.erase(std::unique(g_.overlaps.begin(), g_.overlaps.end()), g_.overlaps.end());
 }
 
+// A wheel or a tyre stands on the table along a strip under its axle: the points of its outline
+// nearest the table, within kTouch of the nearest (a tyre's tread across, a point along). A wide
+// patch would let the table hold a turning wheel against its turn.
+void ContactGraphBuilder::stand_round_part_on_ground(int i, const std::vector<Vec3>& outline) {
+  const Brick& brick = a_.bricks[size_t(i)];
+  double nearest = 1e300;
+  for (const Vec3& p : outline) nearest = std::min(nearest, clearance(to_model(brick, p)));
+  if (nearest > kSettleLdu) return;
+  const double below = brick.frame ? to_model(brick, Vec3{0, 0, 0})[1] : 0;
+  Meeting* m = nullptr;
+  for (const Vec3& p : outline) {
+    const Vec3 q = to_model(brick, p);
+    if (clearance(q) > nearest + kTouch) continue;
+    if (!m) m = &meeting(kGround, i, kPlusY, table_.at(q[0], q[2]) - below);
+    grow(m->patch, m->has_patch, {p[0], p[2], p[0], p[2]});
+  }
+  widen_to_min_face(m->patch);
+  m->support = true;
+}
+
 // The ground under the bricks that reach it, or settle onto it. On a lattice turned about the
 // vertical the ground lies lower by the height of the lattice's origin; a tilted one stands on
 // no ground.
@@ -69,6 +89,10 @@ void ContactGraphBuilder::stand_on_ground() {
     if (brick.frame) {
       if (tilted(*brick.frame)) continue;  // its faces are not level: it stands on no ground
       below = to_model(brick, Vec3{0, 0, 0})[1];
+    }
+    if (const auto& outline = shapes_[size_t(i)].outline; !outline.empty()) {
+      stand_round_part_on_ground(i, outline);
+      continue;
     }
     for (const Box& b : shapes_[size_t(i)].body) {
       // The table's highest point under the box, and how far above it the box's bottom is.

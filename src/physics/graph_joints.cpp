@@ -36,6 +36,31 @@ Line line_of(const PlacedShaft& p, int64_t du, int64_t dv) {
               p.frame};
 }
 
+// A wheel is drawn by eye onto its pin and into its tyre: there the lines may lie a wheel pin's
+// and a hub hole's radius apart, the pin drawn still passing into the hole (the corpus's trucks
+// have their wheels 3 to 5 LDU off their pins, touching the ground).
+constexpr double kWheelReach = 8;
+
+// The square of side kWheelReach a line crosses: lines within kWheelReach of each other cross
+// the same square or neighbouring ones.
+Line wheel_cell_of(const PlacedShaft& p, int64_t du, int64_t dv) {
+  const int u = (p.axis + 1) % 3, v = (p.axis + 2) % 3;
+  return Line{p.axis, int64_t(std::floor(p.a[size_t(u)] / kWheelReach)) + du,
+              int64_t(std::floor(p.a[size_t(v)] / kWheelReach)) + dv, p.frame};
+}
+
+// Holes, knuckles and clips by the line they lie on; a wheel's hub, rim and tyre by the square
+// their line crosses.
+struct Receivers {
+  std::map<Line, std::vector<PlacedShaft>> by_line, wheels_by_cell;
+  void add(const PlacedShaft& p) {
+    if (p.shaft->wheel())
+      wheels_by_cell[wheel_cell_of(p, 0, 0)].push_back(p);
+    else
+      by_line[line_of(p, 0, 0)].push_back(p);
+  }
+};
+
 // How the shafts of one part fit the receivers of another.
 struct Fit {
   double lo = 1e300, hi = -1e300;
@@ -46,49 +71,53 @@ struct Fit {
 };
 
 // Per (part with the hole, part with the shaft): how the shafts `inserted` fit `receivers`,
-// within a LDU of the line and overlapping along it (knuckles: meeting end to end).
-std::map<std::pair<int, int>, Fit> shaft_fits(
-    const std::map<Line, std::vector<PlacedShaft>>& receivers,
-    const std::vector<PlacedShaft>& inserted, const std::vector<char>& fixed) {
+// within a LDU of the line (a wheel's: kWheelReach) and overlapping along it (knuckles: meeting
+// end to end).
+std::map<std::pair<int, int>, Fit> shaft_fits(const Receivers& receivers,
+                                              const std::vector<PlacedShaft>& inserted,
+                                              const std::vector<char>& fixed) {
   std::map<std::pair<int, int>, Fit> fits;
-  if (receivers.empty()) return fits;
   for (const PlacedShaft& s : inserted)
-    for (int64_t du = -1; du <= 1; ++du)
-      for (int64_t dv = -1; dv <= 1; ++dv) {
-        auto it = receivers.find(line_of(s, du, dv));
-        if (it == receivers.end()) continue;
-        for (const PlacedShaft& r : it->second) {
-          const int i = r.brick, j = s.brick;
-          if (i == j || (fixed[size_t(i)] && fixed[size_t(j)])) continue;
-          if (!Shaft::fits(*s.shaft, *r.shaft) || (s.shaft->knuckle() && i > j)) continue;
-          const int axis = s.axis, u = (axis + 1) % 3, v = (axis + 2) % 3;
-          if (std::hypot(r.a[size_t(u)] - s.a[size_t(u)], r.a[size_t(v)] - s.a[size_t(v)]) >
-              kCarriedReach)
-            continue;
-          const double lo = std::max(std::min(r.a[size_t(axis)], r.b[size_t(axis)]),
-                                     std::min(s.a[size_t(axis)], s.b[size_t(axis)]));
-          const double hi = std::min(std::max(r.a[size_t(axis)], r.b[size_t(axis)]),
-                                     std::max(s.a[size_t(axis)], s.b[size_t(axis)]));
-          const bool knuckles = s.shaft->knuckle();
-          if (hi - lo < (knuckles ? -kTouch : kMinFace)) continue;
-          Fit& f = fits[{i, j}];
-          f.lo = std::min(f.lo, lo), f.hi = std::max(f.hi, hi);
-          if (hi - lo >= kMinFace)
-            f.overlaps = true;
-          else
-            ++f.abutting;
-          const auto kind = s.shaft->kind, other = r.shaft->kind;
-          // Two halves joined on two lines cannot turn about either.
-          const Line line = line_of(r, 0, 0);
-          const bool second_line = f.on && line != f.line;
-          f.holds = f.holds || (kind == Shaft::Kind::Axle && other == Shaft::Kind::AxleHole) ||
-                    (kind == Shaft::Kind::LockingKnuckle && other == kind) ||
-                    (knuckles && second_line);
-          f.line = line;
-          f.friction = f.friction || kind == Shaft::Kind::FrictionPin || other == Shaft::Kind::Clip;
-          f.on = &r;
+    for (const bool wheel : {false, true})
+      for (int64_t du = -1; du <= 1; ++du)
+        for (int64_t dv = -1; dv <= 1; ++dv) {
+          const auto& index = wheel ? receivers.wheels_by_cell : receivers.by_line;
+          auto it = index.find(wheel ? wheel_cell_of(s, du, dv) : line_of(s, du, dv));
+          if (it == index.end()) continue;
+          for (const PlacedShaft& r : it->second) {
+            const int i = r.brick, j = s.brick;
+            if (i == j || (fixed[size_t(i)] && fixed[size_t(j)])) continue;
+            if (!Shaft::fits(*s.shaft, *r.shaft) || (s.shaft->knuckle() && i > j)) continue;
+            const int axis = s.axis, u = (axis + 1) % 3, v = (axis + 2) % 3;
+            if (std::hypot(r.a[size_t(u)] - s.a[size_t(u)], r.a[size_t(v)] - s.a[size_t(v)]) >
+                (r.shaft->wheel() ? kWheelReach : kCarriedReach))
+              continue;
+            const double lo = std::max(std::min(r.a[size_t(axis)], r.b[size_t(axis)]),
+                                       std::min(s.a[size_t(axis)], s.b[size_t(axis)]));
+            const double hi = std::min(std::max(r.a[size_t(axis)], r.b[size_t(axis)]),
+                                       std::max(s.a[size_t(axis)], s.b[size_t(axis)]));
+            const bool knuckles = s.shaft->knuckle();
+            if (hi - lo < (knuckles ? -kTouch : kMinFace)) continue;
+            Fit& f = fits[{i, j}];
+            f.lo = std::min(f.lo, lo), f.hi = std::max(f.hi, hi);
+            if (hi - lo >= kMinFace)
+              f.overlaps = true;
+            else
+              ++f.abutting;
+            const auto kind = s.shaft->kind, other = r.shaft->kind;
+            // Two halves joined on two lines cannot turn about either.
+            const Line line = line_of(r, 0, 0);
+            const bool second_line = f.on && line != f.line;
+            f.holds = f.holds || (kind == Shaft::Kind::Axle && other == Shaft::Kind::AxleHole) ||
+                      (kind == Shaft::Kind::Rim && other == Shaft::Kind::Tyre) ||
+                      (kind == Shaft::Kind::LockingKnuckle && other == kind) ||
+                      (knuckles && second_line);
+            f.line = line;
+            f.friction =
+                f.friction || kind == Shaft::Kind::FrictionPin || other == Shaft::Kind::Clip;
+            f.on = &r;
+          }
         }
-      }
   return fits;
 }
 
@@ -96,16 +125,17 @@ std::map<std::pair<int, int>, Fit> shaft_fits(
 
 // Technic and hinge joints: a pin or an axle of one part on the line of another's hole, within
 // a LDU of it and overlapping it, joins the two; so do two hinge halves' knuckles on one line
-// that overlap or interleave (fingers between fingers), and a bar in a clip. An axle in an axle
-// hole and a locking hinge hold every way; anything else turns about the line, a clip gripping
-// its bar as a friction pin does its hole.
+// that overlap or interleave (fingers between fingers), a bar in a clip, and a wheel's rim in its
+// tyre. An axle in an axle hole, a locking hinge and a tyre on its rim hold every way; anything
+// else turns about the line (a wheel on its pin or axle), a clip gripping its bar as a friction
+// pin does its hole.
 void ContactGraphBuilder::join_shafts() {
-  std::map<Line, std::vector<PlacedShaft>> receivers;  // holes, knuckles and clips
-  std::vector<PlacedShaft> inserted;                   // pins, axles, knuckles and bars
+  Receivers receivers;                // holes, knuckles, clips, hubs and tyres
+  std::vector<PlacedShaft> inserted;  // pins, axles, knuckles and bars
   for (int i = 0; i < n_; ++i)
     for (const Shaft& s : shapes_[size_t(i)].shafts) {
       const PlacedShaft p = place(a_.bricks[size_t(i)], i, frame_of(i), s);
-      if (s.receives()) receivers[line_of(p, 0, 0)].push_back(p);
+      if (s.receives()) receivers.add(p);
       if (!s.receives() || s.knuckle()) inserted.push_back(p);
     }
   for (auto& [pair, f] : shaft_fits(receivers, inserted, g_.fixed)) {

@@ -48,6 +48,8 @@ WorldShape world_shape(const Brick& brick) {
   w.shafts.reserve(shape.shafts.size());
   for (const Shaft& s : shape.shafts)
     w.shafts.push_back({s.kind, to_world(pose, s.a), to_world(pose, s.b)});
+  if (brick.type->rolls)
+    for (const Vec3& p : shape.outline) w.outline.push_back(to_world(pose, p));
   return w;
 }
 

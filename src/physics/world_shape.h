@@ -16,6 +16,9 @@ struct WorldShape {
   std::vector<Box> body;
   std::vector<Connector> studs, receptacles, bores;
   std::vector<Shaft> shafts;
+  // Where a wheel or a tyre reaches (BrickType::rolls): its round bottom meets a table along a
+  // strip, not across its box. Empty for other parts.
+  std::vector<Vec3> outline;
 };
 // In the brick's lattice frame: the model's, or its turned frame (Brick::frame) when it has one.
 WorldShape world_shape(const Brick& brick);

@@ -294,6 +294,35 @@ bool carry_bars_in_no_clip(Audit& audit, const physics::ContactGraph& graph) {
   return true;
 }
 
+// A wheel turns on the pin or axle in its hub, its tyre held by its rim. A wheel that its file's
+// holder does not hold by a pin or an axle we derive (a wheel centre's stub axles in a plate's
+// wheel clips), and the tyre on it, are carried as before wheels were analysed: on the ground,
+// they hold what they touch as the ground does. Returns whether any was.
+bool carry_wheels_on_no_axle(Audit& audit, const physics::ContactGraph& graph) {
+  const Assembly& a = audit.conversion.assembly;
+  std::vector<char> loose(a.bricks.size(), 0);
+  bool any = false;
+  for (size_t i = 0; i < a.bricks.size(); ++i) {
+    loose[i] = a.bricks[i].type->rolls;
+    any = any || loose[i];
+  }
+  if (!any) return false;
+  auto rolls = [&](int b) { return b != physics::kGround && a.bricks[size_t(b)].type->rolls; };
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int k : graph.shaft_joints) {
+      const auto& c = graph.contacts[size_t(k)];
+      for (auto [x, y] : {std::pair(c.lower, c.upper), std::pair(c.upper, c.lower)})
+        if (rolls(x) && loose[size_t(x)] && (!rolls(y) || !loose[size_t(y)]))
+          loose[size_t(x)] = 0, changed = true;
+    }
+  }
+  if (std::find(loose.begin(), loose.end(), 1) == loose.end()) return false;
+  carry_bricks(audit, loose,
+               "a wheel or tyre on no pin or axle we find (what holds it is not modelled)");
+  return true;
+}
+
 // PHYSICS.md: a part placed off the stud lattice is carried. Where a part's studs and receptacles
 // meet nothing that stands, that is what happened to it (an ornament on a half-stud offset, a
 // door on its hinge pins, a roof whose supports are carried): such parts become carried, and
@@ -305,6 +334,7 @@ void carry_unconnected(Audit& audit, const physics::StabilityOptions& o) {
   const Assembly& a = audit.conversion.assembly;
   Floating now = floating_bricks(a, o);
   if (carry_bars_in_no_clip(audit, now.graph)) now = floating_bricks(a, o);
+  if (carry_wheels_on_no_axle(audit, now.graph)) now = floating_bricks(a, o);
   if (std::find(now.bricks.begin(), now.bricks.end(), 1) == now.bricks.end()) return;
   if (nudge_onto_the_lattice(audit, now.bricks, o)) now = floating_bricks(a, o);
   // Technic parts held by nothing but their pins, axles and holes, where those meet nothing that

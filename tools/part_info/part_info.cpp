@@ -46,9 +46,10 @@ int main(int argc, char** argv) {
     for (const Connector& c : t.shape.receptacles)
       fmt::print("  receptacle  ({:g}, {:g}, {:g}) {}\n", c.at[0], c.at[1], c.at[2],
                  kDir[c.direction]);
-    constexpr const char* kShaft[] = {"pin hole", "axle hole",       "pin",  "friction pin", "axle",
-                                      "knuckle",  "locking knuckle", "clip", "bar"};
-    static_assert(std::size(kShaft) == size_t(Shaft::Kind::Bar) + 1, "a name for every kind");
+    constexpr const char* kShaft[] = {
+        "pin hole",        "axle hole", "pin", "friction pin", "axle", "knuckle",
+        "locking knuckle", "clip",      "bar", "hub",          "rim",  "tyre"};
+    static_assert(std::size(kShaft) == size_t(Shaft::Kind::Tyre) + 1, "a name for every kind");
     for (const Shaft& s : t.shape.shafts)
       fmt::print("  {:<10}  ({:g}, {:g}, {:g}) to ({:g}, {:g}, {:g})\n", kShaft[int(s.kind)],
                  s.a[0], s.a[1], s.a[2], s.b[0], s.b[1], s.b[2]);
