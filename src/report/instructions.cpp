@@ -109,7 +109,7 @@ bool is_booklet(const fs::path& dir) {
 // The files of a booklet: what a new booklet replaces in DIR. Anything else there is the user's
 // and moves into the new one.
 bool booklet_file(const std::string& name) {
-  static const std::regex ours(R"(step-\d{3,}\.png|cover\.png|index\.html)");
+  static const std::regex ours(R"(step-\d{3,}\.png|cover\.png|index\.html|instructions\.pdf)");
   return std::regex_match(name, ours);
 }
 
@@ -308,7 +308,11 @@ std::string cm_text(const std::optional<double>& cm) {
   return cm ? fmt::format("{:.3f} gf", *cm) : std::string("no equilibrium");
 }
 
-std::string html(const Booklet& b, const Pictures& pictures) {
+// The printable booklet beside index.html.
+constexpr const char* kPdf = "instructions.pdf";
+constexpr int kPrintSeconds = 600;
+
+std::string html(const Booklet& b, const Pictures& pictures, bool pdf) {
   int total = 0;
   for (const PartCount& p : b.parts) total += p.quantity;
   std::string out = fmt::format(R"(<!DOCTYPE html>
@@ -320,6 +324,10 @@ body {{ font-family: sans-serif; margin: 0; background: #eee; color: #222; }}
 section {{ background: #fff; margin: 1em auto; padding: 1em 2em; max-width: 900px;
   page-break-after: always; break-after: page; }}
 h1, h2 {{ margin: 0.2em 0; }}
+@page {{ size: A4; margin: 12mm; }}
+@media print {{ body {{ background: #fff; font-size: 10pt; }} section {{ margin: 0; padding: 0; }}
+  section:last-of-type {{ break-after: auto; page-break-after: auto; }}
+  img {{ width: auto; max-height: 110mm; }} .print {{ display: none; }} }}
 img {{ display: block; max-width: 100%; margin: 0.5em auto; }}
 .note {{ background: #fff3c4; padding: 0.5em 1em; }}
 .swatch {{ display: inline-block; width: 1em; height: 1em; border: 1px solid #666;
@@ -336,6 +344,7 @@ td.count {{ font-weight: bold; text-align: right; }}
 )",
                                 kGenerator, html_escape(b.title), html_escape(b.title),
                                 html_escape(b.source), b.steps.size(), total);
+  if (pdf) out += fmt::format("<p class=\"print\">To print: <a href=\"{0}\">{0}</a>.</p>\n", kPdf);
   if (!pictures.note.empty())
     out += fmt::format("<p class=\"note\">{}</p>\n", html_escape(pictures.note));
   if (!pictures.cover.empty())
@@ -377,6 +386,29 @@ window.addEventListener("load", () => {
 </script>
 )";
   return out + "</body></html>\n";
+}
+
+// Headless Chromium prints the booklet, a page per step (each section breaks the page), into
+// kPdf beside it; returns a note when it could not.
+std::string print_pdf(const fs::path& dir, const BookletProgress& progress) {
+  if (!have("chromium"))
+    return "Chromium is not installed (Debian package chromium): the booklet has no PDF.";
+  if (progress) progress("printing the booklet with Chromium");
+  const fs::path profile = dir / ".chromium";
+  // Chromium as root runs only without its sandbox; a profile of its own keeps the user's.
+  const std::string command = fmt::format(
+      "chromium --headless --no-sandbox --disable-gpu --no-first-run "
+      "--disable-background-networking --disable-component-update --disable-sync "
+      "--user-data-dir={} --no-pdf-header-footer --print-to-pdf-no-header --print-to-pdf={} {} "
+      ">/dev/null 2>&1",
+      shell_quote(profile.string()), shell_quote((dir / kPdf).string()),
+      shell_quote("file://" + fs::absolute(dir / "index.html").string()));
+  const bool printed = stop::run_command(command, kPrintSeconds) == 0;
+  std::error_code ec;
+  fs::remove_all(profile, ec);
+  if (printed && fs::file_size(dir / kPdf, ec) > 0 && !ec) return {};
+  fs::remove(dir / kPdf, ec);
+  return "Chromium did not print the booklet: it has no PDF.";
 }
 
 }  // namespace
@@ -443,8 +475,12 @@ std::string write_booklet(const fs::path& dir, const Booklet& booklet, const fs:
                           const std::string& submodel) {
   check_booklet_folder(dir);
   NewFolder made(dir);
-  const Pictures pictures = render(made.path(), booklet, model, library, progress, submodel);
-  ldraw::write_file_atomically(made.path() / "index.html", html(booklet, pictures));
+  Pictures pictures = render(made.path(), booklet, model, library, progress, submodel);
+  ldraw::write_file_atomically(made.path() / "index.html", html(booklet, pictures, true));
+  if (const std::string unprinted = print_pdf(made.path(), progress); !unprinted.empty()) {
+    pictures.note += (pictures.note.empty() ? "" : " ") + unprinted;
+    ldraw::write_file_atomically(made.path() / "index.html", html(booklet, pictures, false));
+  }
   const std::string moved = made.publish(dir);
   if (progress) progress(fmt::format("wrote {}", (dir / "index.html").string()));
   if (!moved.empty()) return pictures.note.empty() ? moved : pictures.note + " " + moved;

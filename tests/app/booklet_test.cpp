@@ -118,6 +118,16 @@ TEST_F(Booklet, LegolizeWritesAPagePerStepThatABrowserShows) {
   }
   EXPECT_EQ(count(dom, "class=\"step\""), steps);
   EXPECT_NE(dom.find("id=\"cover\""), std::string::npos);
+  // The printable booklet: a PDF Chromium printed, the cover and each step on pages of their own
+  // (a long parts list may take a second page).
+  const std::string pdf = text_of(book / "instructions.pdf");
+  ASSERT_TRUE(pdf.starts_with("%PDF-")) << "no PDF";
+  const std::regex page(R"(/Type\s*/Page[^s])");
+  const size_t pages = size_t(
+      std::distance(std::sregex_iterator(pdf.begin(), pdf.end(), page), std::sregex_iterator()));
+  EXPECT_GE(pages, steps + 1);
+  EXPECT_LE(pages, steps + 3);
+  EXPECT_NE(dom.find("href=\"instructions.pdf\""), std::string::npos);
 }
 
 // Without LeoCAD the booklet still comes out, without pictures, and says so.
@@ -131,6 +141,8 @@ TEST_F(Booklet, WithoutLeoCadItHasNoPicturesAndSaysSo) {
   const std::string html = text_of(book / "index.html");
   EXPECT_NE(html.find("LeoCAD is not installed"), std::string::npos);
   EXPECT_EQ(html.find("<img"), std::string::npos);
+  EXPECT_NE(html.find("Chromium is not installed"), std::string::npos);
+  EXPECT_FALSE(fs::exists(book / "instructions.pdf"));
   // A page per step brickcheck --steps analyses.
   const auto steps =
       nlohmann::json::parse(run_tool("brickcheck", {"--json", "--steps", tower.string()}).out);
