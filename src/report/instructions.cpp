@@ -109,7 +109,8 @@ bool is_booklet(const fs::path& dir) {
 // The files of a booklet: what a new booklet replaces in DIR. Anything else there is the user's
 // and moves into the new one.
 bool booklet_file(const std::string& name) {
-  static const std::regex ours(R"(step-\d{3,}\.png|cover\.png|index\.html|instructions\.pdf)");
+  static const std::regex ours(
+      R"(step-\d{3,}\.png|part-\d{3,}\.png|cover\.png|index\.html|instructions\.pdf)");
   return std::regex_match(name, ours);
 }
 
@@ -179,10 +180,35 @@ constexpr const char* kHighlight = "#FFFF00FF";
 // LeoCAD renders the steps (new parts highlighted, earlier ones faded) and the finished model;
 // returns which pictures exist, and a note when some do not.
 struct Pictures {
-  std::map<int, std::string> step;  // step -> file name in the folder
+  std::map<int, std::string> step;                          // step -> file name in the folder
+  std::map<std::pair<std::string, int>, std::string> part;  // (part, colour) -> file name
   std::string cover;
   std::string note;
 };
+
+// A part's picture beside a step's parts list.
+constexpr int kPartWidth = 160, kPartHeight = 120;
+
+// The kinds of part (part and colour) the steps place, in the order of the booklet's lists.
+std::vector<std::pair<std::string, int>> part_kinds(const Booklet& booklet) {
+  std::vector<std::pair<std::string, int>> kinds;
+  for (const BookletStep& s : booklet.steps)
+    for (const PartCount& p : s.parts) kinds.emplace_back(p.part, p.color);
+  std::sort(kinds.begin(), kinds.end());
+  kinds.erase(std::unique(kinds.begin(), kinds.end()), kinds.end());
+  return kinds;
+}
+
+// Each kind of part alone, as printed instructions draw a step's parts: a file placing each at
+// the origin in a step of its own, drawn by one LeoCAD run with the steps before faded to nothing
+// and no edge lines (a faded part's edges would show across the part drawn). All are drawn at one
+// scale, as printed instructions draw them: a 1 x 1 brick is smaller than a 2 x 4.
+std::string parts_one_by_one(const std::vector<std::pair<std::string, int>>& kinds) {
+  std::string out = "0 The booklet's parts\n0 Name: parts.ldr\n0 Author: legolization\n\n";
+  for (const auto& [part, color] : kinds)
+    out += ldraw::part_line(color, ldraw::Transform{}, part + ".dat") + "0 STEP\n";
+  return out;
+}
 
 Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& model,
                 const fs::path& library, const BookletProgress& progress,
@@ -232,29 +258,49 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
   const int last = booklet.steps.empty()   ? 1
                    : booklet.drawn.empty() ? booklet.steps.back().number
                                            : int(booklet.steps.size());
-  auto leocad = [&](const std::string& image, int from, int to, bool highlight) {
+  enum class Look { Steps, Whole, Alone };
+  auto leocad = [&](const fs::path& file, const std::string& image, int from, int to, Look look) {
+    const bool alone = look == Look::Alone;
     const std::string command = fmt::format(
         "{}leocad -l {} {}-i {} -w {} -h {} -f {} -t {} --camera-angles 30 45 {} {} >{} 2>&1",
         display ? "" : "xvfb-run -a ", shell_quote(library.string()),
-        shown_submodel.empty() ? std::string() : "-s " + shell_quote(shown_submodel) + " ",
-        shell_quote((scratch / image).string()), kWidth, kHeight, from, to,
-        highlight
+        shown_submodel.empty() || alone ? std::string() : "-s " + shell_quote(shown_submodel) + " ",
+        shell_quote((scratch / image).string()), alone ? kPartWidth : kWidth,
+        alone ? kPartHeight : kHeight, from, to,
+        look == Look::Steps
             ? fmt::format("--highlight --highlight-color {} --fade-steps", shell_quote(kHighlight))
-            : "--no-highlight --no-fade-steps",
-        shell_quote(fs::absolute(shown).string()), shell_quote((scratch / "leocad.log").string()));
+        : alone ? "--no-highlight --fade-steps --fade-steps-color '#00FFFFFF' --line-width 0"
+                : "--no-highlight --no-fade-steps",
+        shell_quote(fs::absolute(file).string()), shell_quote((scratch / "leocad.log").string()));
     // A renderer that hangs (no X server after all) must not hang the tool.
     return stop::run_command(command, kRenderSeconds) == 0;
   };
   if (progress) progress(fmt::format("rendering {} steps with LeoCAD", booklet.steps.size()));
-  const bool steps_ok = leocad("step.png", 1, last, true);
+  const bool steps_ok = leocad(shown, "step.png", 1, last, Look::Steps);
   if (progress) progress("rendering the cover");
-  const bool cover_ok = leocad("cover.png", last, last, false);
+  const bool cover_ok = leocad(shown, "cover.png", last, last, Look::Whole);
+  // The parts one by one, from the booklet's own file only: a model's own parts are in its file.
+  const auto kinds =
+      booklet.drawn.empty() ? std::vector<std::pair<std::string, int>>{} : part_kinds(booklet);
+  if (!kinds.empty()) {
+    if (progress) progress(fmt::format("rendering {} kinds of part", kinds.size()));
+    ldraw::write_file_atomically(scratch / "parts.ldr", parts_one_by_one(kinds));
+    leocad(scratch / "parts.ldr", "part.png", 1, int(kinds.size()), Look::Alone);
+  }
   // One step renders to the name given, several to the name with the step's number.
-  static const std::regex numbered(R"(step(\d+)\.png)");
+  static const std::regex numbered(R"(step(\d+)\.png)"), part_numbered(R"(part(\d+)\.png)");
   for (const auto& e : fs::directory_iterator(scratch)) {
     const std::string name = e.path().filename().string();
     std::smatch m;
     int step = 0;
+    if (std::regex_match(name, m, part_numbered) || (name == "part.png" && kinds.size() == 1)) {
+      const size_t k = name == "part.png" ? 0 : size_t(std::stoi(m[1])) - 1;
+      if (k >= kinds.size()) continue;
+      const std::string target = fmt::format("part-{:03}.png", k + 1);
+      fs::rename(e.path(), dir / target, ec);
+      if (!ec) out.part[kinds[k]] = target;
+      continue;
+    }
     if (std::regex_match(name, m, numbered))
       step = number_of(std::stoi(m[1]));
     else if (name == "step.png")
@@ -272,10 +318,10 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
   }
   int missing = 0;
   for (const BookletStep& s : booklet.steps) missing += !out.step.count(s.number);
-  if (missing > 0 || out.cover.empty())
-    out.note = fmt::format("LeoCAD did not render {} of {} pictures{}.",
-                           missing + (out.cover.empty() ? 1 : 0), booklet.steps.size() + 1,
-                           steps_ok ? "" : " (it failed)");
+  missing += int(kinds.size() - out.part.size()) + (out.cover.empty() ? 1 : 0);
+  if (missing > 0)
+    out.note = fmt::format("LeoCAD did not render {} of {} pictures{}.", missing,
+                           booklet.steps.size() + 1 + kinds.size(), steps_ok ? "" : " (it failed)");
   fs::remove_all(scratch, ec);
   return out;
 }
@@ -327,11 +373,15 @@ h1, h2 {{ margin: 0.2em 0; }}
 @page {{ size: A4; margin: 12mm; }}
 @media print {{ body {{ background: #fff; font-size: 10pt; }} section {{ margin: 0; padding: 0; }}
   section:last-of-type {{ break-after: auto; page-break-after: auto; }}
-  img {{ width: auto; max-height: 110mm; }} .print {{ display: none; }} }}
+  img.picture {{ width: auto; max-height: 95mm; }} .callout img {{ width: auto; height: 20mm; }}
+  .callout figure, table.parts {{ font-size: 8pt; }} .print {{ display: none; }} }}
 img {{ display: block; max-width: 100%; margin: 0.5em auto; }}
 .note {{ background: #fff3c4; padding: 0.5em 1em; }}
 .swatch {{ display: inline-block; width: 1em; height: 1em; border: 1px solid #666;
   vertical-align: middle; }}
+.callout {{ display: flex; flex-wrap: wrap; gap: 0.5em; }}
+.callout figure {{ margin: 0; text-align: center; font-weight: bold; }}
+.callout img {{ margin: 0; }}
 table.parts {{ border-collapse: collapse; }}
 table.parts td, table.parts th {{ padding: 0.15em 0.6em; text-align: left; }}
 td.count {{ font-weight: bold; text-align: right; }}
@@ -364,6 +414,14 @@ td.count {{ font-weight: bold; text-align: right; }}
           "<img class=\"picture\" src=\"{}\" alt=\"the model after step {}, new "
           "parts highlighted\" width=\"{}\" height=\"{}\">\n",
           it->second, s.number, kWidth, kHeight);
+    std::string callout;
+    for (const PartCount& p : s.parts)
+      if (auto it = pictures.part.find({p.part, p.color}); it != pictures.part.end())
+        callout += fmt::format(
+            "<figure><img src=\"{}\" alt=\"{}\" width=\"{}\" height=\"{}\">"
+            "<figcaption>{}&times;</figcaption></figure>\n",
+            it->second, html_escape(p.name), kPartWidth, kPartHeight, p.quantity);
+    if (!callout.empty()) out += "<div class=\"callout\">\n" + callout + "</div>\n";
     out += parts_table(s.parts, b.colors);
     if (!s.note.empty()) out += fmt::format("<p class=\"note\">{}</p>\n", html_escape(s.note));
     if (s.stands) {

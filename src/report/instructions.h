@@ -1,8 +1,9 @@
 #pragma once
 // Building instructions a person can follow: an HTML booklet with a cover (the finished model and
 // every part) and a page per build step (the model so far with the new parts highlighted, the
-// parts the step needs, and the step's C_M). Pictures come from LeoCAD (DESIGN.md, "Real
-// clients"); without it the booklet is written without them and says so.
+// parts the step needs drawn one by one and listed, and the step's C_M), and its printable PDF.
+// Pictures come from LeoCAD (DESIGN.md, "Real clients"), the PDF from headless Chromium; without
+// them the booklet is written without pictures or PDF and says so.
 #include <filesystem>
 #include <functional>
 #include <map>

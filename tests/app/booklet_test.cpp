@@ -91,12 +91,16 @@ TEST_F(Booklet, LegolizeWritesAPagePerStepThatABrowserShows) {
     EXPECT_TRUE(fs::exists(book / name)) << name;
   }
   EXPECT_TRUE(fs::exists(book / "cover.png"));
+  // Each kind of part drawn alone: different parts, different pictures.
+  ASSERT_TRUE(fs::exists(book / "part-002.png"));
+  EXPECT_NE(text_of(book / "part-001.png"), text_of(book / "part-002.png"));
 
   const std::string dom = chromium_dom(book / "index.html");
   ASSERT_FALSE(dom.empty()) << "chromium printed no DOM";
-  EXPECT_NE(dom.find("data-pictures=\"" + std::to_string(steps + 1) + "\""), std::string::npos);
-  EXPECT_NE(dom.find("data-pictures-shown=\"" + std::to_string(steps + 1) + "\""),
-            std::string::npos)
+  // The pictures: the cover, a step each, and the step's parts one by one.
+  const std::string pictures = std::to_string(steps + 1 + count(dom, "<figure>"));
+  EXPECT_NE(dom.find("data-pictures=\"" + pictures + "\""), std::string::npos);
+  EXPECT_NE(dom.find("data-pictures-shown=\"" + pictures + "\""), std::string::npos)
       << "a picture did not show";
   for (size_t k = 1; k <= steps; ++k) {
     const std::string id = "id=\"step-" + std::to_string(k) + "\"";
@@ -115,6 +119,13 @@ TEST_F(Booklet, LegolizeWritesAPagePerStepThatABrowserShows) {
     for (std::sregex_iterator m(page.begin(), page.end(), counts), e; m != e; ++m)
       placed += std::stoi((*m)[1]);
     EXPECT_EQ(placed, r["steps"][k - 1]["new_bricks"].get<int>()) << "step " << k;
+    // Its parts drawn one by one: a picture per line of its list, the counts the same.
+    std::regex drawn(R"(<figcaption>(\d+)×</figcaption>)");
+    int shown = 0;
+    for (std::sregex_iterator m(page.begin(), page.end(), drawn), e; m != e; ++m)
+      shown += std::stoi((*m)[1]);
+    EXPECT_EQ(shown, placed) << "step " << k;
+    EXPECT_EQ(count(page, "<figure>"), count(page, "<td class=\"count\">")) << "step " << k;
   }
   EXPECT_EQ(count(dom, "class=\"step\""), steps);
   EXPECT_NE(dom.find("id=\"cover\""), std::string::npos);
