@@ -62,7 +62,7 @@ inline int lattice_direction(int ldraw_direction) {
   return axis_of(ldraw_direction) == 1 ? opposite(ldraw_direction) : ldraw_direction;
 }
 
-// A lattice of its own (README "What it analyses", turned lattices): the parts inside a submodel
+// A lattice of its own (docs/what-it-analyses.md, turned lattices): the parts inside a submodel
 // that the model places at an angle that is not a multiple of 90 degrees (a stand turned on its
 // base, a roof tilted on hinges) lie on the submodel's lattice. Their poses are in that frame, and
 // `pose` puts the frame in the model.

@@ -190,7 +190,7 @@ double plate_slip(double y, double offset) {
   return std::abs(shift) > kOnLattice && std::abs(shift) <= kPlateSlip ? shift : 0;
 }
 
-// README "What it analyses", turned lattices: a part turned by an angle that is not a multiple of
+// docs/what-it-analyses.md, turned lattices: a part turned by an angle that is not a multiple of
 // 90 degrees lies on a lattice of its own when a submodel placement turned it: the outermost
 // placement whose turn is not a quarter turn (`outer`, in the model's frame) is that lattice, and
 // what lies inside it (its file's exact numbers) must place the part on a quarter turn there.
@@ -234,7 +234,7 @@ std::optional<FramedPart> turned_frame(const ldraw::Model& model, const ldraw::P
 // Frames of parts turned on their own lines count down from here (turned_frame's from 0 up).
 constexpr int kFirstPartTurnFrame = -3;
 
-// README "What it analyses", turned lattices: parts that the file turns one by one, each on its
+// docs/what-it-analyses.md, turned lattices: parts that the file turns one by one, each on its
 // own line, share a lattice where their turns agree up to quarter turns (the mosque's walls, each
 // brick's line turned 30 degrees). The lattice is placed where its first part is; the others lie
 // on it where the file's own numbers put them: their offsets are taken back through their written

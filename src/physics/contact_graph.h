@@ -102,7 +102,7 @@ struct ContactGraph {
   std::vector<std::vector<int>> contacts_of;  // per brick: indices into `contacts`
   std::vector<char> fixed;                    // per brick: part of the ground
   std::vector<CarriedGroup> carried_groups;
-  // The assumed-rigid joints where parts of two lattices touch (README "What it analyses", turned
+  // The assumed-rigid joints where parts of two lattices touch (docs/what-it-analyses.md, turned
   // lattices): indices into `contacts`.
   std::vector<int> lattice_joints;
   // The assumed-rigid joints where two hinge or turntable halves touch without a line they share

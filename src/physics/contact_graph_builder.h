@@ -80,7 +80,7 @@ class ContactGraphBuilder {
 
   // Each pass over the parts counts them again: the count says where in a pass it stopped.
   void check_time(int i) const;
-  // Parts meet by their studs and faces only on one lattice (README "What it analyses", turned
+  // Parts meet by their studs and faces only on one lattice (docs/what-it-analyses.md, turned
   // lattices): the brick's turned frame, or -1.
   int frame_of(int i) const;
   int owner(int box_id) const { return box_owner_[size_t(box_id)].first; }

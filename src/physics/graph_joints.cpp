@@ -205,7 +205,7 @@ void ContactGraphBuilder::tie_carried_joints() {
 // Where parts of two lattices touch (a turned stand on its base), or two hinge or turntable
 // halves touch without a line they share (a hinge whose fingers' primitives are not
 // cylinders), nothing tells how they hold: they are joined as a carried part joins what it
-// touches (README "What it analyses").
+// touches (docs/what-it-analyses.md).
 void ContactGraphBuilder::join_lattices_and_pivots() {
   auto pivots = [&](int i) { return a_.bricks[size_t(i)].type->pivots; };
   bool any_pivot = false;

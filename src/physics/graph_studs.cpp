@@ -64,7 +64,7 @@ void ContactGraphBuilder::engage_studs() {
   }
 }
 
-// Studs in receptacles of another lattice, both upright (README "What it analyses", turned
+// Studs in receptacles of another lattice, both upright (docs/what-it-analyses.md, turned
 // lattices): a stud in a receptacle is a connection however the two parts are turned about it
 // (the water tower's ring of 1 x 3 bricks, each turned on a stud of the one below). Found where
 // the model puts them: the corpus places such rings by eye, a stud up to 3 LDU from the

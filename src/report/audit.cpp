@@ -164,7 +164,7 @@ void carry_bricks(Audit& audit, const std::vector<char>& carry, const std::strin
   a.loads = std::move(loads);
 }
 
-// README "What it analyses", turned lattices: a part on a turned frame is analysed there where it
+// docs/what-it-analyses.md, turned lattices: a part on a turned frame is analysed there where it
 // snaps to another part of that frame; alone on its lattice it is carried, as any part at an angle.
 void carry_lone_turned(Audit& audit, const physics::StabilityOptions& o) {
   const Assembly& a = audit.conversion.assembly;

@@ -39,7 +39,7 @@ TEST(ToAssembly, TurnsByQuarterTurnsAreOnTheLatticeOtherAnglesOnTheirOwn) {
   auto conv = to_assembly(m, library);
   ASSERT_EQ(conv.assembly.bricks.size(), 7u);
   EXPECT_EQ(conv.brick_part, (std::vector<size_t>{0, 1, 2, 3, 4, 5, 7}));
-  // At 55 degrees, on a lattice of its own (README "What it analyses", turned lattices): it is
+  // At 55 degrees, on a lattice of its own (docs/what-it-analyses.md, turned lattices): it is
   // carried later if it snaps to nothing there.
   for (size_t b = 0; b < 7; ++b) EXPECT_EQ(bool(conv.assembly.bricks[b].frame), b == 5) << b;
   const Pose at_55 = model_pose(conv.assembly.bricks[5]);
