@@ -619,8 +619,9 @@ void print_bricks(const Run& run, const voxel::VoxelGrid& grid) {
   const BrickCatalog& catalog = BrickCatalog::standard();
   std::string by_part;
   for (const auto& [part, n] : run.rep.bricks_by_part)
-    by_part += fmt::format("{}{} {}", by_part.empty() ? "" : ", ", n,
-                           catalog.find(part) ? catalog.find(part)->name : part);
+    by_part +=
+        fmt::format("{}{} {}", by_part.empty() ? "" : ", ", n,
+                    catalog.find(part) ? readable_part_name(catalog.find(part)->name) : part);
   std::cout << fmt::format("{}: {} bricks ({}), {} x {} x {} voxels\n", run.o.output,
                            run.rep.bricks, by_part, grid.width, grid.height, grid.depth);
 }

@@ -43,4 +43,15 @@ inline std::string_view without_title_marks(std::string_view title) {
   return title;
 }
 
+// A part's name as a builder reads it: without the library's marks, its runs of spaces one (the
+// library aligns its titles: "Brick  1 x  2"), without " (Obsolete)".
+inline std::string readable_part_name(std::string_view title) {
+  std::string out;
+  for (const char c : without_title_marks(title))
+    if (c != ' ' || (!out.empty() && out.back() != ' ')) out += c;
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  if (out.ends_with(" (Obsolete)")) out.resize(out.size() - 11);
+  return out;
+}
+
 }  // namespace lego

@@ -72,17 +72,16 @@ bool have(const char* program) {
 // without the library's marks ("=Brick 1 x 1", "~Plate 1 x 2 (Obsolete)" are a brick and a
 // plate to the builder).
 std::string part_name(const ldraw::PlacedPart& p) {
-  if (const BrickType* t = BrickCatalog::standard().find(p.part)) return t->name;
+  if (const BrickType* t = BrickCatalog::standard().find(p.part))
+    return readable_part_name(t->name);
   if (!p.definition.empty()) {
     std::ifstream in(p.definition);
     std::string line;
     if (std::getline(in, line)) {
-      while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-      if (line.starts_with("0 ")) {
-        std::string name(without_title_marks(std::string_view(line).substr(2)));
-        if (name.ends_with(" (Obsolete)")) name.resize(name.size() - 11);
-        if (!name.empty()) return name;
-      }
+      while (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line.starts_with("0 "))
+        if (std::string name = readable_part_name(std::string_view(line).substr(2)); !name.empty())
+          return name;
     }
   }
   return p.part;

@@ -8,6 +8,7 @@
 #include "core/brick_catalog.h"
 #include "core/csv.h"
 #include "core/error.h"
+#include "core/text.h"
 #include "ldraw/color_table.h"
 
 namespace lego::report {
@@ -18,7 +19,7 @@ std::vector<PartCount> count_parts(const Assembly& assembly) {
     PartCount& c = counts[{b.type->part, b.color}];
     c.part = b.type->part;
     c.color = b.color;
-    c.name = b.type->name;
+    c.name = readable_part_name(b.type->name);
     ++c.quantity;
   }
   std::vector<PartCount> out;
