@@ -63,7 +63,7 @@ class ContactGraphBuilder {
   void engage_studs_across_lattices();
   void touch_faces();
   void stand_on_ground();
-  void stand_round_part_on_ground(int brick, const std::vector<Vec3>& outline);
+  void stand_round_part_on_ground(int brick, const std::vector<Vec3>& outline, double below);
   void gather_carried_parts();
   void merge_faces_into_stud_connections();
   void add_meeting_contacts();

@@ -61,12 +61,13 @@ void ContactGraphBuilder::touch_faces() {
 // A wheel or a tyre stands on the table along a strip under its axle: the points of its outline
 // nearest the table, within kTouch of the nearest (a tyre's tread across, a point along). A wide
 // patch would let the table hold a turning wheel against its turn.
-void ContactGraphBuilder::stand_round_part_on_ground(int i, const std::vector<Vec3>& outline) {
+// `below`: the height of the brick's frame's origin, as stand_on_ground has it.
+void ContactGraphBuilder::stand_round_part_on_ground(int i, const std::vector<Vec3>& outline,
+                                                     double below) {
   const Brick& brick = a_.bricks[size_t(i)];
   double nearest = 1e300;
   for (const Vec3& p : outline) nearest = std::min(nearest, clearance(to_model(brick, p)));
   if (nearest > kSettleLdu) return;
-  const double below = brick.frame ? to_model(brick, Vec3{0, 0, 0})[1] : 0;
   Meeting* m = nullptr;
   for (const Vec3& p : outline) {
     const Vec3 q = to_model(brick, p);
@@ -91,7 +92,7 @@ void ContactGraphBuilder::stand_on_ground() {
       below = to_model(brick, Vec3{0, 0, 0})[1];
     }
     if (const auto& outline = shapes_[size_t(i)].outline; !outline.empty()) {
-      stand_round_part_on_ground(i, outline);
+      stand_round_part_on_ground(i, outline, below);
       continue;
     }
     for (const Box& b : shapes_[size_t(i)].body) {

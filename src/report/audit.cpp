@@ -6,6 +6,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -271,56 +272,52 @@ bool nudge_onto_the_lattice(Audit& audit, const std::vector<char>& floating,
   return any;
 }
 
-// A part held by bars alone (a lightsaber blade, a flag's pole) is analysed through the clips
-// that hold them. Where no clip does, what holds it (a minifigure's hand, a hollow stud, a tyre on
-// it as an axle) is not modelled: it is carried, with its weight. Returns whether any was.
-bool carry_bars_in_no_clip(Audit& audit, const physics::ContactGraph& graph) {
+// Parts that only a joint of another part can hold (a bar, a wheel): those of `kind` that no
+// shaft joint ties to a part of another kind, directly or through others of the kind (a tyre
+// through its wheel), are held by what the analysis does not model: carried, with `reason`.
+// Returns whether any was.
+bool carry_held_by_no_joint(Audit& audit, const physics::ContactGraph& graph,
+                            const std::function<bool(const BrickType&)>& kind,
+                            const std::string& reason) {
   const Assembly& a = audit.conversion.assembly;
   std::vector<char> loose(a.bricks.size(), 0);
   bool any = false;
   for (size_t i = 0; i < a.bricks.size(); ++i) {
-    const PartShape& shape = a.bricks[i].type->shape;
-    loose[i] = shape.studs.empty() && shape.receptacles.empty() && !shape.shafts.empty() &&
-               std::all_of(shape.shafts.begin(), shape.shafts.end(),
-                           [](const Shaft& s) { return s.kind == Shaft::Kind::Bar; });
+    loose[i] = kind(*a.bricks[i].type);
     any = any || loose[i];
   }
   if (!any) return false;
-  for (int k : graph.shaft_joints)
-    for (int b : {graph.contacts[size_t(k)].lower, graph.contacts[size_t(k)].upper})
-      if (b != physics::kGround) loose[size_t(b)] = 0;
-  if (std::find(loose.begin(), loose.end(), 1) == loose.end()) return false;
-  carry_bricks(audit, loose, "a bar no clip holds (what holds it is not modelled)");
-  return true;
-}
-
-// A wheel turns on the pin or axle in its hub, its tyre held by its rim. A wheel that its file's
-// holder does not hold by a pin or an axle we derive (a wheel centre's stub axles in a plate's
-// wheel clips), and the tyre on it, are carried as before wheels were analysed: on the ground,
-// they hold what they touch as the ground does. Returns whether any was.
-bool carry_wheels_on_no_axle(Audit& audit, const physics::ContactGraph& graph) {
-  const Assembly& a = audit.conversion.assembly;
-  std::vector<char> loose(a.bricks.size(), 0);
-  bool any = false;
-  for (size_t i = 0; i < a.bricks.size(); ++i) {
-    loose[i] = a.bricks[i].type->rolls;
-    any = any || loose[i];
-  }
-  if (!any) return false;
-  auto rolls = [&](int b) { return b != physics::kGround && a.bricks[size_t(b)].type->rolls; };
+  auto of_kind = [&](int b) { return b != physics::kGround && kind(*a.bricks[size_t(b)].type); };
   for (bool changed = true; changed;) {
     changed = false;
     for (int k : graph.shaft_joints) {
       const auto& c = graph.contacts[size_t(k)];
       for (auto [x, y] : {std::pair(c.lower, c.upper), std::pair(c.upper, c.lower)})
-        if (rolls(x) && loose[size_t(x)] && (!rolls(y) || !loose[size_t(y)]))
+        if (of_kind(x) && loose[size_t(x)] && (!of_kind(y) || !loose[size_t(y)]))
           loose[size_t(x)] = 0, changed = true;
     }
   }
   if (std::find(loose.begin(), loose.end(), 1) == loose.end()) return false;
-  carry_bricks(audit, loose,
-               "a wheel or tyre on no pin or axle we find (what holds it is not modelled)");
+  carry_bricks(audit, loose, reason);
   return true;
+}
+
+// A part held by bars alone (a lightsaber blade, a flag's pole) is analysed through the clips
+// that hold them. Where no clip does, what holds it (a minifigure's hand, a hollow stud, a tyre on
+// it as an axle) is not modelled: it is carried, with its weight.
+bool bars_only(const BrickType& t) {
+  const PartShape& shape = t.shape;
+  return shape.studs.empty() && shape.receptacles.empty() && !shape.shafts.empty() &&
+         std::all_of(shape.shafts.begin(), shape.shafts.end(),
+                     [](const Shaft& s) { return s.kind == Shaft::Kind::Bar; });
+}
+
+// A wheel turns on the pin or axle in its hub, its tyre held by its rim. A wheel that its file's
+// holder does not hold by a pin or an axle we derive (a wheel centre's stub axles in a plate's
+// wheel clips), and the tyre on it, are carried as before wheels were analysed: on the ground,
+// they hold what they touch as the ground does.
+bool wheel_or_tyre(const BrickType& t) {
+  return t.rolls;
 }
 
 // PHYSICS.md: a part placed off the stud lattice is carried. Where a part's studs and receptacles
@@ -333,8 +330,13 @@ bool carry_wheels_on_no_axle(Audit& audit, const physics::ContactGraph& graph) {
 void carry_unconnected(Audit& audit, const physics::StabilityOptions& o) {
   const Assembly& a = audit.conversion.assembly;
   Floating now = floating_bricks(a, o);
-  if (carry_bars_in_no_clip(audit, now.graph)) now = floating_bricks(a, o);
-  if (carry_wheels_on_no_axle(audit, now.graph)) now = floating_bricks(a, o);
+  if (carry_held_by_no_joint(audit, now.graph, bars_only,
+                             "a bar no clip holds (what holds it is not modelled)"))
+    now = floating_bricks(a, o);
+  if (carry_held_by_no_joint(audit, now.graph, wheel_or_tyre,
+                             "a wheel or tyre on no pin or axle we find (what holds it is not "
+                             "modelled)"))
+    now = floating_bricks(a, o);
   if (std::find(now.bricks.begin(), now.bricks.end(), 1) == now.bricks.end()) return;
   if (nudge_onto_the_lattice(audit, now.bricks, o)) now = floating_bricks(a, o);
   // Technic parts held by nothing but their pins, axles and holes, where those meet nothing that

@@ -286,30 +286,31 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
     ldraw::write_file_atomically(scratch / "parts.ldr", parts_one_by_one(kinds));
     leocad(scratch / "parts.ldr", "part.png", 1, int(kinds.size()), Look::Alone);
   }
-  // One step renders to the name given, several to the name with the step's number.
-  static const std::regex numbered(R"(step(\d+)\.png)"), part_numbered(R"(part(\d+)\.png)");
+  // Which picture of a LeoCAD run `name` is: its number, or 0 for `single` (a run of one step
+  // renders to the name given, of several to the name with the step's number).
+  static const std::regex step_numbered(R"(step(\d+)\.png)"), part_numbered(R"(part(\d+)\.png)");
+  auto rendered = [](const std::string& name, const std::regex& numbered,
+                     const char* single) -> std::optional<int> {
+    std::smatch m;
+    if (std::regex_match(name, m, numbered)) return std::stoi(m[1]);
+    if (name == single) return 0;
+    return std::nullopt;
+  };
   for (const auto& e : fs::directory_iterator(scratch)) {
     const std::string name = e.path().filename().string();
-    std::smatch m;
-    int step = 0;
-    if (std::regex_match(name, m, part_numbered) || (name == "part.png" && kinds.size() == 1)) {
-      const size_t k = name == "part.png" ? 0 : size_t(std::stoi(m[1])) - 1;
-      if (k >= kinds.size()) continue;
-      const std::string target = fmt::format("part-{:03}.png", k + 1);
+    if (const auto k = rendered(name, part_numbered, "part.png")) {
+      const size_t index = *k == 0 ? 0 : size_t(*k) - 1;
+      if (index >= kinds.size()) continue;
+      const std::string target = fmt::format("part-{:03}.png", index + 1);
       fs::rename(e.path(), dir / target, ec);
-      if (!ec) out.part[kinds[k]] = target;
-      continue;
+      if (!ec) out.part[kinds[index]] = target;
+    } else if (const auto n = rendered(name, step_numbered, "step.png")) {
+      const int step = number_of(*n == 0 ? last : *n);
+      if (step <= 0) continue;
+      const std::string target = fmt::format("step-{:03}.png", step);
+      fs::rename(e.path(), dir / target, ec);
+      if (!ec) out.step[step] = target;
     }
-    if (std::regex_match(name, m, numbered))
-      step = number_of(std::stoi(m[1]));
-    else if (name == "step.png")
-      step = number_of(last);
-    else
-      continue;
-    if (step <= 0) continue;
-    const std::string target = fmt::format("step-{:03}.png", step);
-    fs::rename(e.path(), dir / target, ec);
-    if (!ec) out.step[step] = target;
   }
   if (cover_ok && fs::exists(scratch / "cover.png")) {
     fs::rename(scratch / "cover.png", dir / "cover.png", ec);
