@@ -2,6 +2,7 @@
 // proportions, a maximal single-connected brick layout, stability-aware refinement, and LDraw
 // files whose build steps each stand (layout/build_order.h), with instructions on request.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -147,6 +148,7 @@ struct PieceSettings {
 // (Algorithm 7) and the build order.
 struct PieceResult {
   int lift = 0, objects = 0;
+  bool grounded() const { return lift == 0; }
   size_t voxels = 0;
   std::optional<layout::Layout> lay;
   layout::LayoutAssembly la;
@@ -652,6 +654,20 @@ std::vector<fs::path> heat_map_paths(const app::LegolizeOptions& o, size_t piece
   return paths;
 }
 
+// What the mesh leaves in the air stands on columns (layout/pieces.h), said and reported.
+void stand_floating_objects(Run& run, layout::Target& target) {
+  const layout::FloatingSupports f = layout::stand_floating_objects(target);
+  run.rep.floating = {f.objects, f.columns, f.voxels, f.still_floating};
+  if (f.objects > 0)
+    run.stage(fmt::format("{} object{} in the air: {} support column{} ({} voxels) under {}{}",
+                          f.objects, f.objects == 1 ? "" : "s", f.columns,
+                          f.columns == 1 ? "" : "s", f.voxels, f.objects == 1 ? "it" : "them",
+                          f.still_floating ? fmt::format(", {} resting on each other still in "
+                                                         "the air",
+                                                         f.still_floating)
+                                           : std::string()));
+}
+
 // Every piece from its voxels to an assembly whose build steps stand (convert_piece), the
 // scene's separate objects apart (layout/pieces.h).
 std::vector<PieceResult> convert_pieces(const Run& run, Plan& p,
@@ -773,14 +789,24 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
     if (!r.stable && rep.bottleneck.empty())
       rep.bottleneck =
           results.size() > 1 ? fmt::format("piece {}: {}", k + 1, r.bottleneck) : r.bottleneck;
-    for (const layout::BuildStep& bs : r.order.steps)
-      rep.steps.push_back({int(rep.steps.size()) + 1, bs.new_bricks, bs.bricks,
-                           bs.status == physics::StabilityStatus::Solved
-                               ? bs.cm_gf
-                               : -std::numeric_limits<double>::infinity(),
-                           bs.analysed, bs.stands, bs.why, bs.certified,
-                           // plan_build_order builds a piece's supports in its first step
-                           r.support_bricks > 0 && &bs == &r.order.steps.front()});
+    for (size_t st = 0; st < r.order.steps.size(); ++st) {
+      const layout::BuildStep& bs = r.order.steps[st];
+      rep.steps.push_back(
+          {int(rep.steps.size()) + 1, bs.new_bricks, bs.bricks,
+           bs.status == physics::StabilityStatus::Solved ? bs.cm_gf
+                                                         : -std::numeric_limits<double>::infinity(),
+           bs.analysed, bs.stands, bs.why, bs.certified, r.order.supports_step == int(st) + 1});
+    }
+    // A piece built apart (only with --no-supports: layout/pieces.h) floats where the mesh puts
+    // it, whatever it is alone: brickcheck says so of the file, and so do we.
+    if (!r.grounded()) {
+      rep.stable = false;
+      if (rep.bottleneck.empty())
+        rep.bottleneck = fmt::format(
+            "piece {} floats {} layers up, where the mesh puts it: nothing holds it there "
+            "(--no-supports: no columns under it)",
+            k + 1, r.lift);
+    }
     rep.pieces.push_back(
         {.piece = int(k) + 1,
          .grounded = r.lift == 0,
@@ -873,16 +899,32 @@ void print_summary(const Run& run, const std::vector<PieceResult>& results, size
         c.changed, c.visible, 100.0 * double(c.changed) / double(std::max<size_t>(c.visible, 1)),
         c.mean_distance, c.max_distance,
         run.o.colors == "soft" ? " (--colors soft)" : ", where that holds the model together");
-  if (rep.support_bricks > 0)
-    std::cout << fmt::format(
-        "supports: {} column{} of {} bricks in {} ({}) added under what hangs, so that it "
-        "stands{}; built first, {}\n",
-        rep.support_columns, rep.support_columns == 1 ? "" : "s", rep.support_bricks,
-        ldraw::ColorTable::standard().name(rep.support_color), rep.support_color,
-        rep.stable ? "" : " (it still does not)",
+  if (rep.support_bricks > 0) {
+    const int columns = rep.support_columns + rep.floating.columns;
+    std::vector<std::string> under;
+    if (rep.floating.columns > 0)
+      under.push_back(fmt::format("{} under {} object{} the mesh leaves in the air",
+                                  rep.floating.columns, rep.floating.objects,
+                                  rep.floating.objects == 1 ? "" : "s"));
+    if (rep.support_columns > 0)
+      under.push_back(fmt::format("{} under what hangs", rep.support_columns));
+    int first = 0;  // built in the supports' own step
+    for (const auto& st : rep.steps) first += st.supports ? st.new_bricks : 0;
+    const std::string where =
         ldraw::is_mpd(run.o.output)
-            ? "as the submodel " + fs::path(run.o.output).stem().string() + "-supports.ldr"
-            : std::string("as the group 'Supports'"));
+            ? "the submodel " + fs::path(run.o.output).stem().string() + "-supports.ldr"
+            : std::string("the group 'Supports'");
+    std::cout << fmt::format(
+        "supports: {} column{} of {} bricks in {} ({}), {}, so that it stands{}; {}\n", columns,
+        columns == 1 ? "" : "s", rep.support_bricks,
+        ldraw::ColorTable::standard().name(rep.support_color), rep.support_color,
+        fmt::join(under, " and "), rep.stable ? "" : " (it still does not)",
+        size_t(first) == rep.support_bricks ? "built first, as " + where
+        : first == 0                        ? std::string("each built with the layer it stands on")
+                     : fmt::format("{} bricks on the ground built first, as {}; those on the "
+                                   "model with the layer they stand on",
+                                   first, where));
+  }
   if (!rep.stable) std::cout << "weakest: " << rep.bottleneck << "\n";
   if (!rep.steps.empty() && !rep.steps_analysed) {
     std::cout << fmt::format("build steps: {}, not analysed (--no-step-analysis)\n",
@@ -934,6 +976,7 @@ int main(int argc, char** argv) {
     Plan plan = check_options(o);
     Voxels voxels = read_and_voxelize(run, plan);
     if (o.voxels_only) return write_voxels(run, plan, voxels);
+    if (!o.no_supports) stand_floating_objects(run, voxels.target);
     std::vector<layout::Piece> pieces = layout::split_pieces(voxels.target);
     const std::vector<fs::path> heat_maps = heat_map_paths(o, pieces.size());
     const std::vector<PieceResult> results = convert_pieces(run, plan, pieces);

@@ -116,6 +116,8 @@ struct Planner {
   std::vector<int> wait_for_step;         // and for this step (above the top layer)
   int steps = 0;                          // committed so far
   std::vector<char> placed, reachable;    // reachable: the ground or a placed brick holds it
+  // Supports standing on the ground through supports alone: the columns built first.
+  std::vector<char> grounded_support;
   // Forces that balance the last step: the next one's certificate begins from them.
   physics::StepForces built;
   int failed_tries = 0;  // certificates not found since the last step decided
@@ -137,14 +139,33 @@ struct Planner {
     placed.assign(size_t(n), 0);
     reachable.assign(size_t(n), 0);
     const auto graph = physics::ContactGraph::build(a, ground);
+    std::vector<std::vector<int>> on;  // per brick: the supports snapped onto it from above
+    on.resize(size_t(n));
+    grounded_support.assign(size_t(n), 0);
+    std::vector<int> rising;
+    auto support = [&](int i) { return a.bricks[size_t(i)].support; };
     for (const physics::Contact& c : graph.contacts) {
       if (c.upper < 0) continue;
       if (c.lower == physics::kGround) {
         reachable[size_t(c.upper)] = 1;
+        if (support(c.upper) && !grounded_support[size_t(c.upper)]) {
+          grounded_support[size_t(c.upper)] = 1;
+          rising.push_back(c.upper);
+        }
       } else if (c.snap() || c.joint) {
         snapped[size_t(c.lower)].push_back(c.upper);
         snapped[size_t(c.upper)].push_back(c.lower);
+        if (support(c.lower) && support(c.upper)) on[size_t(c.lower)].push_back(c.upper);
       }
+    }
+    while (!rising.empty()) {
+      const int i = rising.back();
+      rising.pop_back();
+      for (int up : on[size_t(i)])
+        if (!grounded_support[size_t(up)]) {
+          grounded_support[size_t(up)] = 1;
+          rising.push_back(up);
+        }
     }
     for (int i = 0; i < n; ++i) {
       if (a.bricks[size_t(i)].fixed) reachable[size_t(i)] = 1;
@@ -410,11 +431,13 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
       options.progress(int(out.steps.size()), p.placed_count, seconds_since(start));
   };
   // Supports (layout/supports.h) first, in a step of their own: columns that stand alone on the
-  // ground, which the model is then built around and on.
+  // ground, which the model is then built around and on. A column on the model (under an object
+  // the mesh leaves in the air, layout/pieces.h) comes with its layer, as any brick.
   PlannedStep supports;
   for (int i = 0; i < p.size(); ++i)
-    if (a.bricks[size_t(i)].support) supports.bricks.push_back(i);
+    if (p.grounded_support[size_t(i)]) supports.bricks.push_back(i);
   if (!supports.bricks.empty() && !p.done()) {
+    out.supports_step = 1;
     StepAnalysis now = analyse_step(p, std::move(supports), options);
     ++out.analyses;
     falling_in_a_row = now.step.stands ? 0 : 1;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -56,44 +57,57 @@ std::array<int, 2> bridge_layers(Cell3 a, Cell3 b) {
   return {std::max(a.y, b.y), std::min(a.y, b.y)};
 }
 
-}  // namespace
-
-std::vector<Piece> split_pieces(const Target& t) {
-  const auto steps = neighbours26();
-  std::vector<int> label(t.color.size(), -1);
+// The target's objects: its 26-connected parts, numbered in scan order.
+struct Objects {
   struct Object {
     int lowest = 0;
     size_t first = 0, voxels = 0;
   };
-  std::vector<Object> objects;
+  std::vector<int> label;  // per voxel, its object; -1 where empty
+  std::vector<Object> list;
+};
+
+Objects label_objects(const Target& t) {
+  const auto steps = neighbours26();
+  Objects out;
+  out.label.assign(t.color.size(), -1);
   std::deque<size_t> queue;
   for (size_t start = 0; start < t.color.size(); ++start) {
-    if (t.color[start] == kEmpty || label[start] >= 0) continue;
-    const int id = int(objects.size());
-    objects.push_back({cell_of(t, start).y, start, 0});
-    label[start] = id;
+    if (t.color[start] == kEmpty || out.label[start] >= 0) continue;
+    const int id = int(out.list.size());
+    out.list.push_back({cell_of(t, start).y, start, 0});
+    out.label[start] = id;
     queue.push_back(start);
     while (!queue.empty()) {
       const size_t i = queue.front();
       queue.pop_front();
       const Cell3 c = cell_of(t, i);
-      objects[size_t(id)].lowest = std::min(objects[size_t(id)].lowest, c.y);
-      ++objects[size_t(id)].voxels;
+      out.list[size_t(id)].lowest = std::min(out.list[size_t(id)].lowest, c.y);
+      ++out.list[size_t(id)].voxels;
       for (const auto& s : steps) {
         const int x = c.x + s[0], y = c.y + s[1], z = c.z + s[2];
         if (t.at(x, y, z) == kEmpty) continue;
         const size_t n = t.index(x, y, z);
-        if (label[n] >= 0) continue;
-        label[n] = id;
+        if (out.label[n] >= 0) continue;
+        out.label[n] = id;
         queue.push_back(n);
       }
     }
   }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Piece> split_pieces(const Target& t) {
+  const Objects labelled = label_objects(t);
+  const std::vector<int>& label = labelled.label;
+  const auto& objects = labelled.list;
   // Piece per object: the grounded ones share piece 0.
   std::vector<int> piece_of(objects.size(), -1);
   std::vector<Piece> pieces;
   bool any_grounded = false;
-  for (const Object& o : objects) any_grounded = any_grounded || o.lowest == 0;
+  for (const auto& o : objects) any_grounded = any_grounded || o.lowest == 0;
   if (any_grounded) pieces.push_back({Target(t.width, t.height, t.depth), 0, 0, 0});
   std::vector<size_t> order(objects.size());
   for (size_t k = 0; k < order.size(); ++k) order[k] = k;
@@ -101,7 +115,7 @@ std::vector<Piece> split_pieces(const Target& t) {
     return objects[p].lowest < objects[q].lowest;  // then by first voxel: the scan order
   });
   for (size_t k : order) {
-    const Object& o = objects[k];
+    const auto& o = objects[k];
     if (o.lowest == 0) {
       piece_of[k] = 0;
     } else {
@@ -119,6 +133,97 @@ std::vector<Piece> split_pieces(const Target& t) {
     p.target.set(c.x, c.y - p.lift, c.z, t.color[i]);
   }
   return pieces;
+}
+
+FloatingSupports stand_floating_objects(Target& t, int max_columns) {
+  FloatingSupports out;
+  const Objects labelled = label_objects(t);
+  std::vector<size_t> order(labelled.list.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](size_t p, size_t q) {
+    return labelled.list[p].lowest < labelled.list[q].lowest;
+  });
+  std::vector<std::vector<size_t>> voxels_of(labelled.list.size());
+  for (size_t i = 0; i < t.color.size(); ++i)
+    if (labelled.label[i] >= 0) voxels_of[size_t(labelled.label[i])].push_back(i);
+  const size_t plan = size_t(t.width) * size_t(t.depth);
+  for (size_t id : order) {
+    if (labelled.list[id].lowest == 0) continue;
+    // Per cell of the plan the object covers: its lowest voxel there; and its mass centre.
+    std::vector<int> bottom(plan, -1);
+    double cx = 0, cz = 0;
+    for (size_t i : voxels_of[id]) {
+      const Cell3 c = cell_of(t, i);
+      int& b = bottom[size_t(c.z) * t.width + c.x];
+      if (b < 0 || c.y < b) b = c.y;
+      cx += c.x + 0.5;
+      cz += c.z + 0.5;
+    }
+    cx /= double(voxels_of[id].size());
+    cz /= double(voxels_of[id].size());
+    auto covered = [&](int x, int z) {
+      return x >= 0 && z >= 0 && x < t.width && z < t.depth && bottom[size_t(z) * t.width + x] >= 0;
+    };
+    // Columns two voxels square where the object is that wide (a 2 x 2 brick on a 2 x 2 brick
+    // holds by four knobs), else one.
+    int side = 1;
+    for (size_t cell = 0; cell < plan && side == 1; ++cell) {
+      const int x = int(cell % size_t(t.width)), z = int(cell / size_t(t.width));
+      if (covered(x, z) && covered(x + 1, z) && covered(x, z + 1) && covered(x + 1, z + 1))
+        side = 2;
+    }
+    struct Candidate {
+      int x, z;
+      double cx, cz;
+    };
+    std::vector<Candidate> candidates;
+    for (int z = 0; z + side <= t.depth; ++z)
+      for (int x = 0; x + side <= t.width; ++x) {
+        bool all = true;
+        for (int dz = 0; dz < side && all; ++dz)
+          for (int dx = 0; dx < side && all; ++dx) all = covered(x + dx, z + dz);
+        if (all) candidates.push_back({x, z, x + side / 2.0, z + side / 2.0});
+      }
+    // The column nearest the mass centre, then each the farthest from those chosen (the object's
+    // ends), while they stand apart.
+    auto distance = [](double ax, double az, double bx, double bz) {
+      return std::hypot(ax - bx, az - bz);
+    };
+    std::vector<Candidate> chosen;
+    const auto nearest = std::min_element(
+        candidates.begin(), candidates.end(), [&](const Candidate& a, const Candidate& b) {
+          return distance(a.cx, a.cz, cx, cz) < distance(b.cx, b.cz, cx, cz);
+        });
+    chosen.push_back(*nearest);
+    while (int(chosen.size()) < max_columns) {
+      double farthest = 0;
+      const Candidate* next = nullptr;
+      for (const Candidate& c : candidates) {
+        double d = HUGE_VAL;
+        for (const Candidate& k : chosen) d = std::min(d, distance(c.cx, c.cz, k.cx, k.cz));
+        if (d > farthest) farthest = d, next = &c;
+      }
+      if (!next || farthest < kFloatingColumnSpacing) break;
+      chosen.push_back(*next);
+    }
+    // Each column down from the object to what is under it, or the ground.
+    for (const Candidate& c : chosen) {
+      for (int dz = 0; dz < side; ++dz)
+        for (int dx = 0; dx < side; ++dx) {
+          const int x = c.x + dx, z = c.z + dz;
+          for (int y = bottom[size_t(z) * t.width + x] - 1; y >= 0 && t.at(x, y, z) == kEmpty;
+               --y) {
+            t.set(x, y, z, kSupport);
+            ++out.voxels;
+          }
+        }
+      ++out.columns;
+    }
+    ++out.objects;
+  }
+  if (out.objects > 0)
+    for (const auto& o : label_objects(t).list) out.still_floating += o.lowest > 0;
+  return out;
 }
 
 JoinedLayout initialize_joined(Target target, const MergeRules& rules, Random& rng,

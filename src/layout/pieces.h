@@ -4,7 +4,9 @@
 // into voxels that no brick layout joins. Both are handled before and around the layout:
 // - split_pieces: the objects are the voxels' 26-connected parts. Those reaching the bottom layer
 //   stand on the ground together, one piece; every other object is a piece of its own, lowered
-//   to stand on its own bottom (legolize writes it as a submodel to build apart).
+//   to stand on its own bottom (legolize writes it as a submodel to build apart). legolize first
+//   stands such objects on columns (stand_floating_objects), so only with --no-supports are
+//   there pieces built apart, and then the scene does not stand as the mesh arranges it.
 // - initialize_joined: where a part of a piece breaks off after the layout's initialization,
 //   voxels are added in the layer above (or below) the gap, so that one brick can span it, and
 //   the layout is made again.
@@ -30,6 +32,22 @@ struct Piece {
 // The piece on the ground first (when there is one), then the others by their lowest layer,
 // lowest first, then by first voxel. Each piece's target has the grid's width and depth.
 std::vector<Piece> split_pieces(const Target& target);
+
+// Objects the mesh leaves in the air (a lid above its pot, a ball inside a cage) stand on columns
+// of support voxels (kSupport) down to what is under them or to the ground, so that the scene is
+// built where the mesh puts it and stands there, its columns in the support colour for the builder
+// to see. Per object, lowest first: a column under the object's mass centre, then each the
+// farthest from those chosen while they stand kFloatingColumnSpacing apart, `max_columns` at most;
+// two voxels square where the object is that wide. The layout, its refinement and its supports
+// then judge the scene as one model.
+inline constexpr double kFloatingColumnSpacing = 3;  // voxels between column centres, at least
+struct FloatingSupports {
+  int objects = 0;         // objects that reached no ground
+  int columns = 0;         // columns added under them
+  size_t voxels = 0;       // support voxels in those columns
+  int still_floating = 0;  // objects that reach no ground even so (resting on each other)
+};
+FloatingSupports stand_floating_objects(Target& target, int max_columns = 5);
 
 struct JoinedLayout {
   std::optional<Layout> layout;  // always set on return

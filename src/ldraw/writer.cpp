@@ -84,10 +84,14 @@ Transform brick_transform(const Brick& brick, const std::array<int, 3>& origin_l
 
 namespace {
 
-// What a builder reads where the supports begin (Brick::support).
-constexpr const char* kSupportsWords =
-    "Supports: columns that are not the model's, which it stands on. Build them first; the model "
-    "needs them to stand";
+// What a builder reads where the supports begin (Brick::support): those of the first step stand
+// on the ground, the others on the model (under what the mesh leaves in the air).
+std::string supports_words(bool first_step) {
+  return first_step ? "Supports: columns that are not the model's, which it stands on. Build them "
+                      "first; the model needs them to stand"
+                    : "Supports: columns that are not the model's, standing on it under what it "
+                      "holds in the air; the model needs them to stand";
+}
 
 // The bricks of one assembly by build step, `0 STEP` after each step. Supports are a group of
 // their own (LeoCAD's, which other editors keep as comments), so that they can be seen and
@@ -107,7 +111,8 @@ std::string bricks_by_step(const Assembly& assembly, bool steps) {
     if (steps && k > 0 && assembly.bricks[order[k - 1]].source.step != b.source.step)
       out += "0 STEP\n";
     if (b.support && !in_supports) {
-      out += fmt::format("0 // {}.\n0 !LEOCAD GROUP BEGIN Supports\n", kSupportsWords);
+      out += fmt::format("0 // {}.\n0 !LEOCAD GROUP BEGIN Supports\n",
+                         supports_words(b.source.step == assembly.bricks[order[0]].source.step));
       in_supports = true;
     }
     out += brick_line(b, assembly.origin_ldu);
@@ -132,18 +137,18 @@ std::string mpd_model(const Assembly& assembly, const std::string& name, const s
   std::map<int, std::vector<size_t>> steps;
   for (size_t i : by_step(assembly)) steps[assembly.bricks[i].source.step].push_back(i);
   std::string out = "0 FILE " + name + "\n" + header(title, name, author);
-  // A step of supports only is the submodel "<stem>-supports.ldr".
   auto supports_only = [&](const std::vector<size_t>& bricks) {
     return std::all_of(bricks.begin(), bricks.end(),
                        [&](size_t i) { return assembly.bricks[i].support; });
   };
+  // A first step of supports only is the submodel "<stem>-supports.ldr".
   std::vector<std::string> names;
   int k = 0;
   for (const auto& [step, bricks] : steps) {
     ++k;
-    names.push_back(supports_only(bricks) ? fmt::format("{}-supports.ldr", stem)
-                                          : fmt::format("{}-step-{:03}.ldr", stem, k));
-    if (supports_only(bricks)) out += fmt::format("0 // {}.\n", kSupportsWords);
+    names.push_back(k == 1 && supports_only(bricks) ? fmt::format("{}-supports.ldr", stem)
+                                                    : fmt::format("{}-step-{:03}.ldr", stem, k));
+    if (supports_only(bricks)) out += fmt::format("0 // {}.\n", supports_words(k == 1));
     out += "1 16 0 0 0 1 0 0 0 1 0 0 0 1 " + names.back() + "\n0 STEP\n";
   }
   out += extra + "0 NOFILE\n";

@@ -94,6 +94,10 @@ nlohmann::json to_json(const ConversionReport& r) {
   j["supports"] = {{"columns", r.support_columns},
                    {"bricks", r.support_bricks},
                    {"color", r.support_bricks > 0 ? nlohmann::json(r.support_color) : nullptr}};
+  j["floating_objects"] = {{"objects", r.floating.objects},
+                           {"columns", r.floating.columns},
+                           {"voxels", r.floating.voxels},
+                           {"still_floating", r.floating.still_floating}};
   j["seed"] = r.seed;
   j["version"] = r.version;
   return j;

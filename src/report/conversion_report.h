@@ -52,6 +52,13 @@ struct ConversionReport {
   int support_columns = 0;
   size_t support_bricks = 0;
   int support_color = 0;
+  // Objects the mesh leaves in the air, stood on support columns (layout/pieces.h); their
+  // bricks are in support_bricks, the columns not in support_columns.
+  struct Floating {
+    int objects = 0, columns = 0;
+    size_t voxels = 0;
+    int still_floating = 0;
+  } floating;
   // Visible voxels built in another colour than theirs (--color-trade, --colors soft), all pieces.
   struct ColourChanges {
     size_t visible = 0, changed = 0;

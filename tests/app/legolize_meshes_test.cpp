@@ -252,7 +252,7 @@ TEST(LegolizeMeshes, NavyStaysBlueSkinStaysSkinAndUncolouredIsGrey) {
   EXPECT_EQ(grey.count(15), 0u);
 }
 
-TEST(LegolizeMeshes, AnObjectOffTheGroundIsAPieceBuiltApart) {
+TEST(LegolizeMeshes, AnObjectInTheAirStandsOnColumnsAndBrickcheckAgrees) {
   // One cube on the ground, another beside it and well above: two objects of one scene.
   const fs::path obj = scratch("two.obj");
   std::ofstream(obj) << obj_box(0, 0, 0, 12, 12, 12, 1) << obj_box(24, 24, 0, 36, 36, 12, 9);
@@ -260,8 +260,50 @@ TEST(LegolizeMeshes, AnObjectOffTheGroundIsAPieceBuiltApart) {
   auto run = run_tool("legolize", {obj.string(), "--height", "12", "-o", mpd.string(), "--report",
                                    report.string(), "--quiet"});
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
-  EXPECT_NE(run.out.find("piece 2"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("under 1 object the mesh leaves in the air"), std::string::npos)
+      << run.out;
+  auto r = read_json(report);
+  EXPECT_EQ(r["floating_objects"]["objects"], 1);
+  EXPECT_GE(r["floating_objects"]["columns"].get<int>(), 1);
+  EXPECT_EQ(r["floating_objects"]["still_floating"], 0);
+  ASSERT_EQ(r["pieces"].size(), 1u);
+  EXPECT_GT(r["supports"]["bricks"].get<int>(), 0);
+  EXPECT_TRUE(r["steps"][0]["supports"].get<bool>()) << "columns from the ground, built first";
+  // The file as delivered stands, as brickcheck reads it, step by step too.
+  auto check = run_tool("brickcheck", {"--steps", mpd.string()});
+  EXPECT_EQ(check.exit_code, 0) << check.out;
+  // A block above the cube: its columns rest on the cube, so they come with the layers they
+  // stand on, not first.
+  const fs::path over = scratch("over.obj"), over_mpd = scratch("over.mpd");
+  std::ofstream(over) << obj_box(0, 0, 0, 24, 12, 24, 1) << obj_box(0, 24, 0, 24, 36, 24, 9);
+  run = run_tool("legolize", {over.string(), "--height", "12", "-o", over_mpd.string(), "--report",
+                              report.string(), "--quiet"});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find("each built with the layer it stands on"), std::string::npos) << run.out;
+  r = read_json(report);
+  EXPECT_EQ(r["floating_objects"]["objects"], 1);
+  for (const auto& st : r["steps"]) EXPECT_FALSE(st["supports"].get<bool>());
+  EXPECT_TRUE(r["steps_stand"].get<bool>());
+  check = run_tool("brickcheck", {"--steps", over_mpd.string()});
+  EXPECT_EQ(check.exit_code, 0) << check.out;
+}
+
+TEST(LegolizeMeshes, WithoutSupportsAnObjectInTheAirIsAPieceBuiltApartThatFloats) {
+  const fs::path obj = scratch("two.obj");
+  std::ofstream(obj) << obj_box(0, 0, 0, 12, 12, 12, 1) << obj_box(24, 24, 0, 36, 36, 12, 9);
+  const fs::path mpd = scratch("two.mpd"), report = scratch("two.json");
+  auto run = run_tool("legolize", {obj.string(), "--height", "12", "-o", mpd.string(), "--report",
+                                   report.string(), "--quiet", "--no-supports"});
+  // Built apart it stands, but where the mesh puts it nothing holds it: brickcheck says so of
+  // the file, and so does legolize.
+  EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
+  EXPECT_NE(run.out.find("piece 2 floats 8 layers up"), std::string::npos) << run.out;
+  const auto check = run_tool("brickcheck", {mpd.string()});
+  EXPECT_EQ(check.exit_code, 1) << check.out;
+  EXPECT_NE(check.out.find("floating"), std::string::npos) << check.out;
   const auto r = read_json(report);
+  EXPECT_FALSE(r["stable"].get<bool>());
+  EXPECT_EQ(r["floating_objects"]["objects"], 0);
   ASSERT_EQ(r["pieces"].size(), 2u);
   EXPECT_TRUE(r["pieces"][0]["grounded"].get<bool>());
   EXPECT_FALSE(r["pieces"][1]["grounded"].get<bool>());
@@ -285,9 +327,9 @@ TEST(LegolizeMeshes, AnObjectOffTheGroundIsAPieceBuiltApart) {
   // In an .ldr the piece follows as further steps, said in a comment.
   const fs::path ldr = scratch("two.ldr");
   ASSERT_EQ(run_tool("legolize", {obj.string(), "--height", "12", "-o", ldr.string(), "--quiet",
-                                  "--no-step-analysis"})
+                                  "--no-step-analysis", "--no-supports"})
                 .exit_code,
-            0);
+            1);
   std::ifstream lin(ldr);
   const std::string ltext((std::istreambuf_iterator<char>(lin)), {});
   EXPECT_NE(ltext.find("0 // Piece 2 of 2"), std::string::npos);
@@ -307,16 +349,17 @@ TEST(LegolizeMeshes, APieceBuiltApartHasItsOwnHeatMapCheckedWithTheOtherOutputs)
   const fs::path obj = scratch("two.obj");
   std::ofstream(obj) << obj_box(0, 0, 0, 12, 12, 12, 1) << obj_box(24, 24, 0, 36, 36, 12, 9);
   const fs::path mpd = scratch("two.mpd"), heat = scratch("heat.ldr");
-  auto run = run_tool("legolize", {obj.string(), "--height", "12", "-o", mpd.string(), "--heatmap",
-                                   heat.string(), "--quiet", "--no-step-analysis"});
-  ASSERT_EQ(run.exit_code, 0) << run.err;
+  auto run =
+      run_tool("legolize", {obj.string(), "--height", "12", "-o", mpd.string(), "--heatmap",
+                            heat.string(), "--quiet", "--no-step-analysis", "--no-supports"});
+  ASSERT_EQ(run.exit_code, 1) << run.err;
   EXPECT_TRUE(fs::exists(heat));
   EXPECT_TRUE(fs::exists(scratch("heat-piece-2.ldr")));
   // The second piece's heat map is the file --report names: refused, nothing written.
   fs::remove(mpd);
   run = run_tool("legolize",
                  {obj.string(), "--height", "12", "-o", mpd.string(), "--heatmap", heat.string(),
-                  "--report", scratch("heat-piece-2.ldr").string(), "--quiet"});
+                  "--report", scratch("heat-piece-2.ldr").string(), "--quiet", "--no-supports"});
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("name the same file"), std::string::npos) << run.err;
   EXPECT_FALSE(fs::exists(mpd));
@@ -480,7 +523,7 @@ TEST(LegolizeMeshes, DebianTestModels) {
   EXPECT_GT(colours.count(272) + colours.count(1), 0u) << "oceans";
   EXPECT_GT(colours.count(288) + colours.count(2) + colours.count(330) + colours.count(28), 0u)
       << "land";
-  // The teapots scene: every piece in one part, those off the ground built apart.
+  // The teapots scene: one piece, in one part, what is in the air on columns.
   const fs::path teapots = scratch("teapots.json");
   run = run_tool("legolize", {(models / "Collada" / "teapots.DAE").string(), "--height", "12", "-o",
                               scratch("teapots.mpd").string(), "--report", teapots.string(),
@@ -488,7 +531,9 @@ TEST(LegolizeMeshes, DebianTestModels) {
   ASSERT_NE(run.exit_code, 2) << run.err;
   const auto t = read_json(teapots);
   EXPECT_TRUE(t["single_connected"].get<bool>()) << run.out;
-  EXPECT_EQ(t["components"].get<int>(), int(t["pieces"].size()));
+  EXPECT_EQ(t["components"].get<int>(), 1);
+  EXPECT_EQ(t["pieces"].size(), 1u);
+  EXPECT_EQ(t["floating_objects"]["still_floating"], 0);
 }
 
 }  // namespace

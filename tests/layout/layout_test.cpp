@@ -396,6 +396,73 @@ TEST(Layout, ScenesSplitIntoPiecesAndThinSpansAreJoined) {
   }
 }
 
+TEST(Layout, ObjectsInTheAirStandOnColumnsDownToWhatIsUnderThem) {
+  // A slab on the ground, a block in the air over its middle, and a bar in the air beside it.
+  Target t(20, 10, 8);
+  for (int y = 0; y < 2; ++y)
+    for (int z = 0; z < 8; ++z)
+      for (int x = 0; x < 10; ++x) t.set(x, y, z, 4);
+  for (int y = 5; y < 7; ++y)
+    for (int z = 1; z < 7; ++z)
+      for (int x = 1; x < 9; ++x) t.set(x, y, z, 14);
+  for (int x = 12; x < 20; ++x) t.set(x, 8, 3, 1);  // one voxel thick: columns one voxel square
+  const Target before = t;
+  const FloatingSupports f = stand_floating_objects(t);
+  EXPECT_EQ(f.objects, 2);
+  EXPECT_EQ(f.still_floating, 0);
+  // Every object reaches the ground now: one piece (the slab with the block on it, and the bar).
+  const std::vector<Piece> pieces = split_pieces(t);
+  ASSERT_EQ(pieces.size(), 1u);
+  EXPECT_EQ(pieces[0].objects, 2);
+  // Nothing the mesh had changed; what was added is support, in columns from the slab's top
+  // (layer 2) to the block's bottom (layer 4), and from the ground to the bar (layers 0..7).
+  size_t supports = 0;
+  for (int y = 0; y < t.height; ++y)
+    for (int z = 0; z < t.depth; ++z)
+      for (int x = 0; x < t.width; ++x) {
+        const int was = before.at(x, y, z), is = t.at(x, y, z);
+        if (was != kEmpty) {
+          EXPECT_EQ(is, was);
+          continue;
+        }
+        if (is == kEmpty) continue;
+        EXPECT_EQ(is, kSupport);
+        ++supports;
+        if (x < 10) {
+          EXPECT_GE(y, 2);
+          EXPECT_LE(y, 4);
+        } else {
+          EXPECT_EQ(z, 3);
+          EXPECT_LE(y, 7);
+        }
+        // Each column reaches from what is under it to the object: full height at its cell.
+        const int from = x < 10 ? 2 : 0, to = x < 10 ? 4 : 7;
+        for (int h = from; h <= to; ++h) EXPECT_EQ(t.at(x, h, z), kSupport) << x << "," << z;
+      }
+  EXPECT_EQ(supports, f.voxels);
+  // The block (8 x 6) gets two-voxel columns: under its middle and at its far corners, at least
+  // kFloatingColumnSpacing apart; the bar, one voxel wide, single ones along its length.
+  std::vector<std::pair<int, int>> block_cells, bar_cells;
+  for (int z = 0; z < t.depth; ++z)
+    for (int x = 0; x < t.width; ++x)
+      if (t.at(x, 3, z) == kSupport) (x < 10 ? block_cells : bar_cells).push_back({x, z});
+  EXPECT_EQ(block_cells.size() % 4, 0u);
+  EXPECT_GE(block_cells.size(), 4u * 3);  // the middle and two ends at least
+  EXPECT_GE(bar_cells.size(), 2u);
+  for (size_t a = 0; a < bar_cells.size(); ++a)
+    for (size_t b = a + 1; b < bar_cells.size(); ++b)
+      EXPECT_GE(std::abs(bar_cells[a].first - bar_cells[b].first), kFloatingColumnSpacing);
+  EXPECT_EQ(f.columns, int(block_cells.size() / 4 + bar_cells.size()));
+  // A scene with nothing in the air is left as it is.
+  Target grounded = before;
+  for (int y = 5; y < 9; ++y)
+    for (int z = 0; z < 8; ++z)
+      for (int x = 0; x < 20; ++x) grounded.set(x, y, z, kEmpty);
+  const Target kept = grounded;
+  EXPECT_EQ(stand_floating_objects(grounded).objects, 0);
+  EXPECT_EQ(grounded.color, kept.color);
+}
+
 TEST(Layout, FewUnitBricksOnAHollowedSphere) {
   // Paper case study 7: 1x1 bricks are a few percent of the bricks (and less of the volume).
   Layout l(test::hollow_sphere(15, 3, 15));
