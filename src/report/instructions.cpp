@@ -22,6 +22,7 @@
 #include "core/text.h"
 #include "ldraw/color_table.h"
 #include "ldraw/writer.h"
+#include "report/step_camera.h"
 
 namespace lego::report {
 
@@ -260,12 +261,17 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
   enum class Look { Steps, Whole, Alone };
   auto leocad = [&](const fs::path& file, const std::string& image, int from, int to, Look look) {
     const bool alone = look == Look::Alone;
+    // The booklet's own steps are seen by its camera, each framed; anything else from the cover's
+    // direction, whole.
+    const std::string camera = look == Look::Steps && !booklet.drawn.empty()
+                                   ? fmt::format("-c {}", kStepCamera)
+                                   : std::string("--camera-angles 30 45");
     const std::string command = fmt::format(
-        "{}leocad -l {} {}-i {} -w {} -h {} -f {} -t {} --camera-angles 30 45 {} {} >{} 2>&1",
+        "{}leocad -l {} {}-i {} -w {} -h {} -f {} -t {} {} {} {} >{} 2>&1",
         display ? "" : "xvfb-run -a ", shell_quote(library.string()),
         shown_submodel.empty() || alone ? std::string() : "-s " + shell_quote(shown_submodel) + " ",
         shell_quote((scratch / image).string()), alone ? kPartWidth : kWidth,
-        alone ? kPartHeight : kHeight, from, to,
+        alone ? kPartHeight : kHeight, from, to, camera,
         look == Look::Steps
             ? fmt::format("--highlight --highlight-color {} --fade-steps", shell_quote(kHighlight))
         : alone ? "--no-highlight --fade-steps --fade-steps-color '#00FFFFFF' --line-width 0"
@@ -484,16 +490,29 @@ void check_booklet_folder(const fs::path& dir) {
 namespace {
 
 // The parts flattened, a step of the file per step of the model that places parts (submodels'
-// own steps, a leading empty step: LeoCAD would number the steps otherwise than the booklet).
+// own steps, a leading empty step: LeoCAD would number the steps otherwise than the booklet),
+// and the camera that frames each step (step_camera.h).
 std::string drawn_by_step(const ldraw::Model& model) {
-  std::map<int, std::string> steps;
+  struct Drawn {
+    std::string lines;
+    FrameBox box;
+  };
+  std::map<int, Drawn> steps;
   for (const ldraw::PlacedPart& p : model.parts) {
     if (!p.embedded_definition.empty()) return {};
-    steps[p.step] += ldraw::part_line(p.color, p.transform, p.reference);
+    Drawn& d = steps[p.step];
+    d.lines += ldraw::part_line(p.color, p.transform, p.reference);
+    d.box.add(part_box(p));
   }
   std::string out = "0 The booklet's steps\n0 Name: steps.ldr\n0 Author: legolization\n\n";
-  for (auto& [step, lines] : steps) out += lines + "0 STEP\n";
-  return out;
+  std::vector<Frame> frames;
+  FrameBox so_far;
+  for (auto& [step, d] : steps) {
+    out += d.lines + "0 STEP\n";
+    so_far.add(d.box);
+    frames.push_back(frame_step(d.box, so_far));
+  }
+  return out + step_camera(frames);
 }
 
 }  // namespace

@@ -36,7 +36,8 @@ struct Booklet {
   std::string verdict;           // one line on the finished model
   ldraw::ColorTable colors;      // names and looks of the colours (the model's table)
   // What the pictures show: every part where the model puts it, as one LDraw file with a STEP
-  // after each of `steps`, so that a renderer's step k is steps[k - 1]. Empty when the model
+  // after each of `steps`, so that a renderer's step k is steps[k - 1], and LeoCAD's camera
+  // kStepCamera framing each step (step_camera.h). Empty when the model
   // defines parts of its own (a renderer finds those only in the model's file).
   std::string drawn;
 };

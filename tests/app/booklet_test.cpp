@@ -13,10 +13,16 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include <fmt/format.h>
+
 #include "app/run_tool.h"
+#include "ldraw/reader.h"
+#include "report/instructions.h"
+#include "report/step_camera.h"
 #include "test_paths.h"
 
 namespace lego {
@@ -218,6 +224,62 @@ TEST_F(Booklet, PicturesFollowTheBookletsStepsThroughSubmodels) {
   }
 }
 
+// Each step's picture is framed on the model so far, and on a step's few new parts where they are
+// a small share of it: the camera LeoCAD renders the booklet's steps with has a key per step.
+TEST(StepCamera, FramesTheModelSoFarAndSmallStepsCloser) {
+  // A tower of eight 2 x 4 bricks, one per step, then a 1 x 1 brick beside its foot.
+  std::string text = "0 tower\n";
+  for (int k = 0; k < 8; ++k)
+    text += fmt::format("1 4 0 {} 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n", -24 * (k + 1));
+  text += "1 1 60 -24 0 1 0 0 0 1 0 0 0 1 3005.dat\n0 STEP\n";
+  const ldraw::Model model = ldraw::read_text(text, "tower.ldr");
+  ASSERT_FALSE(model.has_errors());
+  const std::string drawn = report::booklet_of(model).drawn;
+  EXPECT_EQ(count(drawn, "0 !LEOCAD CAMERA POSITION_KEY "), 9u);
+  EXPECT_EQ(count(drawn, "0 !LEOCAD CAMERA TARGET_POSITION_KEY "), 9u);
+  EXPECT_EQ(count(drawn, "0 !LEOCAD CAMERA UP_VECTOR_KEY "), 9u);
+  EXPECT_NE(drawn.find(std::string("0 !LEOCAD CAMERA NAME ") + report::kStepCamera),
+            std::string::npos);
+  // The frames: the first step's is the one brick; each step's holds the model so far and grows
+  // with it; the last, one small brick at the tower's foot, is around that brick.
+  std::vector<report::FrameBox> boxes(9);
+  for (const auto& p : model.parts) boxes[size_t(p.step - 1)].add(report::part_box(p));
+  report::FrameBox so_far;
+  double before = 0;
+  for (size_t k = 0; k < 8; ++k) {
+    so_far.add(boxes[k]);
+    const report::Frame f = report::frame_step(boxes[k], so_far);
+    EXPECT_GT(f.radius, before) << k;
+    EXPECT_NEAR(f.radius, std::max(so_far.radius(), 30.0), 1e-9) << k;
+    before = f.radius;
+  }
+  so_far.add(boxes[8]);
+  const report::Frame last = report::frame_step(boxes[8], so_far);
+  EXPECT_NEAR(last.radius, so_far.radius() / 3, 1e-9);
+  EXPECT_NEAR(last.centre[0], 60, 1e-9);   // on the small brick
+  EXPECT_NEAR(last.centre[1], -12, 1e-9);  // LDraw's y: half a brick up
+  // The camera looks from above (LeoCAD's z is up), from +x and LDraw's -z, at its frame's
+  // distance: twice the radius, twice as far.
+  const std::string two = report::step_camera({{{0, 0, 0}, 100}, {{0, 0, 0}, 200}});
+  std::vector<std::array<double, 3>> eyes;
+  std::istringstream lines(two);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("0 !LEOCAD CAMERA POSITION_KEY ", 0) == 0) {
+      std::istringstream in(line.substr(30));
+      int step = 0;
+      std::array<double, 3> e{};
+      in >> step >> e[0] >> e[1] >> e[2];
+      eyes.push_back(e);
+    }
+  ASSERT_EQ(eyes.size(), 2u);
+  EXPECT_GT(eyes[0][0], 0);
+  EXPECT_LT(eyes[0][1], 0);  // LeoCAD's y is LDraw's z
+  EXPECT_GT(eyes[0][2], 0);
+  const double d0 = std::hypot(eyes[0][0], eyes[0][1], eyes[0][2]);
+  const double d1 = std::hypot(eyes[1][0], eyes[1][1], eyes[1][2]);
+  EXPECT_NEAR(d1 / d0, 2, 1e-3);
+}
+
 // A folder with the user's own files is refused and left as it was; a booklet written before is
 // replaced.
 TEST_F(Booklet, NeverWritesOverAFolderOfOtherFiles) {
@@ -324,7 +386,7 @@ TEST_F(Booklet, AStopWhileRenderingLeavesTheOldBookletAndNoRenderer) {
   ::usleep(500000);
   // "[/]tmp/...": the pattern does not match the shell that runs pgrep with it.
   const std::string pattern =
-      "[" + scratch.string().substr(0, 1) + "]" + scratch.string().substr(1);
+      fmt::format("[{}]{}", scratch.string().substr(0, 1), scratch.string().substr(1));
   const fs::path survivors = dir_ / "survivors.txt";
   EXPECT_NE(
       std::system(
