@@ -72,7 +72,18 @@ fs::path heatmap_path(const fs::path& out, const fs::path& input, bool several) 
 // The booklet of one audited model: its parts step by step, with each step's analysis.
 void write_instructions(const report::Audit& audit, const fs::path& dir,
                         const std::string& ldraw_dir, const std::string& main_model, bool quiet) {
-  report::Booklet booklet = report::booklet_of(audit.model);
+  // What each part's body is, as the audit derived it: the pictures frame the steps on it.
+  std::vector<std::optional<Box>> bodies(audit.model.parts.size());
+  const Assembly& a = audit.conversion.assembly;
+  for (size_t i = 0; i < a.bricks.size() && i < audit.conversion.brick_part.size(); ++i)
+    if (!a.bricks[i].type->shape.body.empty())
+      bodies[audit.conversion.brick_part[i]] = a.bricks[i].type->shape.bounds();
+  for (size_t c = 0; c < a.carried.size() && c < audit.conversion.carried_part.size(); ++c) {
+    PartShape carried;
+    carried.body = a.carried[c].body;
+    if (!carried.body.empty()) bodies[audit.conversion.carried_part[c]] = carried.bounds();
+  }
+  report::Booklet booklet = report::booklet_of(audit.model, bodies);
   for (report::BookletStep& bs : booklet.steps)
     for (const report::StepAudit& s : audit.steps)
       if (s.step == bs.number) {

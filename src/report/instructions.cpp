@@ -492,17 +492,19 @@ namespace {
 // The parts flattened, a step of the file per step of the model that places parts (submodels'
 // own steps, a leading empty step: LeoCAD would number the steps otherwise than the booklet),
 // and the camera that frames each step (step_camera.h).
-std::string drawn_by_step(const ldraw::Model& model) {
+std::string drawn_by_step(const ldraw::Model& model,
+                          const std::vector<std::optional<Box>>& bodies) {
   struct Drawn {
     std::string lines;
     FrameBox box;
   };
   std::map<int, Drawn> steps;
-  for (const ldraw::PlacedPart& p : model.parts) {
+  for (size_t i = 0; i < model.parts.size(); ++i) {
+    const ldraw::PlacedPart& p = model.parts[i];
     if (!p.embedded_definition.empty()) return {};
     Drawn& d = steps[p.step];
     d.lines += ldraw::part_line(p.color, p.transform, p.reference);
-    d.box.add(part_box(p));
+    d.box.add(part_box(p, i < bodies.size() ? bodies[i] : std::nullopt));
   }
   std::string out = "0 The booklet's steps\n0 Name: steps.ldr\n0 Author: legolization\n\n";
   std::vector<Frame> frames;
@@ -517,7 +519,7 @@ std::string drawn_by_step(const ldraw::Model& model) {
 
 }  // namespace
 
-Booklet booklet_of(const ldraw::Model& model) {
+Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Box>>& bodies) {
   Booklet b;
   b.title = model.title.empty() ? model.source : model.title;
   b.source = fs::path(model.source).filename().string();
@@ -543,7 +545,7 @@ Booklet booklet_of(const ldraw::Model& model) {
     b.steps.push_back(std::move(s));
   }
   b.parts = sorted(std::move(all));
-  b.drawn = drawn_by_step(model);
+  b.drawn = drawn_by_step(model, bodies);
   return b;
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/part_shape.h"
 #include "ldraw/reader.h"
 #include "report/parts_list.h"
 
@@ -44,7 +45,9 @@ struct Booklet {
 
 // The parts of a model read from LDraw, step by step (submodels flattened, a submodel's parts in
 // the step where it is first placed). Names come from the catalog or the part's own file.
-Booklet booklet_of(const ldraw::Model& model);
+// `bodies`, when given, is per part of the model its body in its own frame where known: the
+// pictures frame each step on it (step_camera.h).
+Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Box>>& bodies = {});
 
 // Progress on the way (stderr lines for a person watching).
 using BookletProgress = std::function<void(const std::string&)>;

@@ -48,11 +48,14 @@ double FrameBox::radius() const {
   return empty() ? 0 : std::hypot(max[0] - min[0], max[1] - min[1], max[2] - min[2]) / 2;
 }
 
-FrameBox part_box(const ldraw::PlacedPart& part) {
+FrameBox part_box(const ldraw::PlacedPart& part, const std::optional<Box>& body) {
   // Local corners: a catalog part's body from its top (LDraw's origin of a brick) down; any other
   // part two studs around its origin, which is inside most parts.
   Point lo{-20, -20, -20}, hi{20, 20, 20};
-  if (const BrickType* t = BrickCatalog::standard().find(part.part)) {
+  if (body) {
+    lo = body->min;
+    hi = body->max;
+  } else if (const BrickType* t = BrickCatalog::standard().find(part.part)) {
     lo = {-10.0 * t->length, 0, -10.0 * t->width};
     hi = {10.0 * t->length, 8.0 * t->height, 10.0 * t->width};
   }

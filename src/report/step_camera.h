@@ -6,9 +6,11 @@
 // framed on the model so far; where its new parts are a small part of that, on them and around
 // them, so that a window put into a wall is seen, not a speck on a house.
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/part_shape.h"
 #include "ldraw/reader.h"
 
 namespace lego::report {
@@ -23,9 +25,10 @@ struct FrameBox {
   double radius() const;  // half the diagonal
 };
 
-// The space a placed part takes, near enough to frame it: a catalog part's body, else a box of
-// two studs around its origin.
-FrameBox part_box(const ldraw::PlacedPart& part);
+// The space a placed part takes, near enough to frame it: its body in its own frame when known
+// (what brickcheck derived of it), else a catalog part's, else a box of two studs around its
+// origin.
+FrameBox part_box(const ldraw::PlacedPart& part, const std::optional<Box>& body = std::nullopt);
 
 // What a step's picture frames: a sphere.
 struct Frame {

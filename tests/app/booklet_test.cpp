@@ -258,6 +258,13 @@ TEST(StepCamera, FramesTheModelSoFarAndSmallStepsCloser) {
   EXPECT_NEAR(last.radius, so_far.radius() / 3, 1e-9);
   EXPECT_NEAR(last.centre[0], 60, 1e-9);   // on the small brick
   EXPECT_NEAR(last.centre[1], -12, 1e-9);  // LDraw's y: half a brick up
+  // A part the catalog does not know is framed on the body brickcheck derived of it (a 32 x 32
+  // baseplate), else on a box of two studs around its origin.
+  ldraw::PlacedPart baseplate = model.parts.front();
+  baseplate.part = "3811";
+  const Box body{{-320, 0, -320}, {320, 4, 320}};
+  EXPECT_NEAR(report::part_box(baseplate, body).radius(), std::hypot(640, 4, 640) / 2, 1e-9);
+  EXPECT_NEAR(report::part_box(baseplate).radius(), std::hypot(40, 40, 40) / 2, 1e-9);
   // The camera looks from above (LeoCAD's z is up), from +x and LDraw's -z, at its frame's
   // distance: twice the radius, twice as far.
   const std::string two = report::step_camera({{{0, 0, 0}, 100}, {{0, 0, 0}, 200}});
