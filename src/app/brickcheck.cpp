@@ -71,7 +71,7 @@ fs::path heatmap_path(const fs::path& out, const fs::path& input, bool several) 
 
 // The booklet of one audited model: its parts step by step, with each step's analysis.
 void write_instructions(const report::Audit& audit, const fs::path& dir,
-                        const std::string& ldraw_dir, const std::string& main_model, bool quiet) {
+                        const std::string& ldraw_dir, bool quiet) {
   // What each part's body is, as the audit derived it: the pictures frame the steps on it.
   std::vector<std::optional<Box>> bodies(audit.model.parts.size());
   const Assembly& a = audit.conversion.assembly;
@@ -104,8 +104,7 @@ void write_instructions(const report::Audit& audit, const fs::path& dir,
   auto progress = [&](const std::string& words) {
     if (!quiet) std::cerr << "brickcheck: " << words << "\n";
   };
-  const std::string note =
-      report::write_booklet(dir, booklet, audit.file, library, progress, main_model);
+  const std::string note = report::write_booklet(dir, booklet, library, progress);
   if (!note.empty()) std::cerr << "brickcheck: " << note << "\n";
 }
 
@@ -260,7 +259,7 @@ FileReport check_file(const std::string& file, size_t files, const Settings& s,
                         audit.out_of_memory.empty();
   if (!s.instructions.empty() && analysed) {
     try {
-      write_instructions(audit, s.instructions, s.ldraw_dir, s.main_model, s.quiet || s.json);
+      write_instructions(audit, s.instructions, s.ldraw_dir, s.quiet || s.json);
     } catch (const InputError& e) {
       fail(e.what());
     }

@@ -612,8 +612,8 @@ void write_outputs(Run& run, const std::vector<const Assembly*>& assemblies,
   if (std::isfinite(rep.cm_gf_final)) booklet.cm_gf = rep.cm_gf_final;
   booklet.verdict = fmt::format("The finished model: C_M = {} ({}).", cm_words(rep.cm_gf_final),
                                 rep.stable ? "it stands" : "it does not stand");
-  const std::string note = report::write_booklet(o.instructions, booklet, o.output,
-                                                 default_parts_dir(), run.stage_sink());
+  const std::string note =
+      report::write_booklet(o.instructions, booklet, default_parts_dir(), run.stage_sink());
   if (!note.empty()) std::cerr << "legolize: " << note << "\n";
 }
 

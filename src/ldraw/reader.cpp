@@ -376,7 +376,9 @@ class Flattener {
     stack_.push_back(main);
     for (const Entry& entry : main->entries) {
       if (const auto* mark = std::get_if<StepMark>(&entry)) {
-        end_step(mark->rotstep);
+        // A step that places nothing (a leading ROTSTEP, two STEPs in a row) is no step a builder
+        // takes: it is not counted, as LPub3D's instructions do not.
+        if (parts_in_step() > 0) end_step(mark->rotstep);
         continue;
       }
       expand(doc, std::get<RefLine>(entry), Transform{}, kMainColor, "");
@@ -395,7 +397,8 @@ class Flattener {
   CaseInsensitiveFinder finder_;
   bool budget_exceeded_ = false;
   // Building steps: the main model's, and a submodel's own where it is first placed (as LPub3D
-  // and LeoCAD show them: its steps, then the rest of the step that places it).
+  // and LeoCAD show them: its steps, then the rest of the step that places it); only those that
+  // place a part.
   int step_ = 1;
   size_t step_start_ = 0;  // parts placed before the current step
   std::set<const Block*> placed_;

@@ -50,7 +50,8 @@ struct PlacedPart {
   std::string embedded_definition;   // its FILE block name, when the MPD embeds it
 };
 
-// One step of the main model, ended by `0 STEP`, `0 ROTSTEP` or the end of the file.
+// One step of the main model, ended by `0 STEP`, `0 ROTSTEP` or the end of the file; a step that
+// places no part is not one (a leading ROTSTEP does not make an empty step 1).
 struct Step {
   int number = 1;
   int parts = 0;        // placed parts added in this step (after flattening)

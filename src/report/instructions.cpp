@@ -199,20 +199,28 @@ std::vector<std::pair<std::string, int>> part_kinds(const Booklet& booklet) {
   return kinds;
 }
 
+// An LDraw file for LeoCAD to draw: `model`, and the parts the model embeds after it, as an MPD
+// (a renderer finds those parts nowhere else).
+std::string with_embedded(const std::string& name, const std::string& model,
+                          const std::string& embedded) {
+  if (embedded.empty()) return model;
+  return "0 FILE " + name + "\n" + model + "0 NOFILE\n" + embedded;
+}
+
 // Each kind of part alone, as printed instructions draw a step's parts: a file placing each at
 // the origin in a step of its own, drawn by one LeoCAD run with the steps before faded to nothing
 // and no edge lines (a faded part's edges would show across the part drawn). All are drawn at one
 // scale, as printed instructions draw them: a 1 x 1 brick is smaller than a 2 x 4.
-std::string parts_one_by_one(const std::vector<std::pair<std::string, int>>& kinds) {
+std::string parts_one_by_one(const std::vector<std::pair<std::string, int>>& kinds,
+                             const std::string& embedded) {
   std::string out = "0 The booklet's parts\n0 Name: parts.ldr\n0 Author: legolization\n\n";
   for (const auto& [part, color] : kinds)
     out += ldraw::part_line(color, ldraw::Transform{}, part + ".dat") + "0 STEP\n";
-  return out;
+  return with_embedded("parts.ldr", out, embedded);
 }
 
-Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& model,
-                const fs::path& library, const BookletProgress& progress,
-                const std::string& submodel) {
+Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& library,
+                const BookletProgress& progress) {
   Pictures out;
   if (!have("leocad")) {
     out.note = "LeoCAD is not installed (Debian package leocad): the booklet has no pictures.";
@@ -240,36 +248,25 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
   std::error_code ec;
   fs::remove_all(scratch, ec);
   fs::create_directories(scratch);
-  // The booklet's own steps when it has them drawn; else the model's file, whose steps LeoCAD
-  // numbers as the file does.
-  std::string shown_submodel = submodel;
-  fs::path shown = model;
-  if (!booklet.drawn.empty()) {
-    shown = scratch / "steps.ldr";
-    ldraw::write_file_atomically(shown, booklet.drawn);
-    shown_submodel.clear();
-  }
+  // The booklet's own steps: LeoCAD's step k is the booklet's k-th.
+  const fs::path shown = scratch / "steps.ldr";
+  ldraw::write_file_atomically(shown, with_embedded("steps.ldr", booklet.drawn, booklet.embedded));
   auto number_of = [&](int leocad_step) {
-    if (booklet.drawn.empty()) return leocad_step;
     return leocad_step >= 1 && leocad_step <= int(booklet.steps.size())
                ? booklet.steps[size_t(leocad_step - 1)].number
                : 0;
   };
-  const int last = booklet.steps.empty()   ? 1
-                   : booklet.drawn.empty() ? booklet.steps.back().number
-                                           : int(booklet.steps.size());
+  const int last = std::max<int>(1, int(booklet.steps.size()));
   enum class Look { Steps, Whole, Alone };
   auto leocad = [&](const fs::path& file, const std::string& image, int from, int to, Look look) {
     const bool alone = look == Look::Alone;
-    // The booklet's own steps are seen by its camera, each framed; anything else from the cover's
+    // The steps are seen by the booklet's camera, each framed; the rest from the cover's
     // direction, whole.
-    const std::string camera = look == Look::Steps && !booklet.drawn.empty()
-                                   ? fmt::format("-c {}", kStepCamera)
-                                   : std::string("--camera-angles 30 45");
+    const std::string camera = look == Look::Steps ? fmt::format("-c {}", kStepCamera)
+                                                   : std::string("--camera-angles 30 45");
     const std::string command = fmt::format(
-        "{}leocad -l {} {}-i {} -w {} -h {} -f {} -t {} {} {} {} >{} 2>&1",
+        "{}leocad -l {} -i {} -w {} -h {} -f {} -t {} {} {} {} >{} 2>&1",
         display ? "" : "xvfb-run -a ", shell_quote(library.string()),
-        shown_submodel.empty() || alone ? std::string() : "-s " + shell_quote(shown_submodel) + " ",
         shell_quote((scratch / image).string()), alone ? kPartWidth : kWidth,
         alone ? kPartHeight : kHeight, from, to, camera,
         look == Look::Steps
@@ -284,12 +281,10 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& mod
   const bool steps_ok = leocad(shown, "step.png", 1, last, Look::Steps);
   if (progress) progress("rendering the cover");
   const bool cover_ok = leocad(shown, "cover.png", last, last, Look::Whole);
-  // The parts one by one, from the booklet's own file only: a model's own parts are in its file.
-  const auto kinds =
-      booklet.drawn.empty() ? std::vector<std::pair<std::string, int>>{} : part_kinds(booklet);
+  const auto kinds = part_kinds(booklet);
   if (!kinds.empty()) {
     if (progress) progress(fmt::format("rendering {} kinds of part", kinds.size()));
-    ldraw::write_file_atomically(scratch / "parts.ldr", parts_one_by_one(kinds));
+    ldraw::write_file_atomically(scratch / "parts.ldr", parts_one_by_one(kinds, booklet.embedded));
     leocad(scratch / "parts.ldr", "part.png", 1, int(kinds.size()), Look::Alone);
   }
   // Which picture of a LeoCAD run `name` is: its number, or 0 for `single` (a run of one step
@@ -501,7 +496,6 @@ std::string drawn_by_step(const ldraw::Model& model,
   std::map<int, Drawn> steps;
   for (size_t i = 0; i < model.parts.size(); ++i) {
     const ldraw::PlacedPart& p = model.parts[i];
-    if (!p.embedded_definition.empty()) return {};
     Drawn& d = steps[p.step];
     d.lines += ldraw::part_line(p.color, p.transform, p.reference);
     d.box.add(part_box(p, i < bodies.size() ? bodies[i] : std::nullopt));
@@ -546,15 +540,16 @@ Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Bo
   }
   b.parts = sorted(std::move(all));
   b.drawn = drawn_by_step(model, bodies);
+  for (const auto& [name, text] : model.embedded_parts)
+    b.embedded += text + (text.ends_with('\n') ? "" : "\n") + "0 NOFILE\n";
   return b;
 }
 
-std::string write_booklet(const fs::path& dir, const Booklet& booklet, const fs::path& model,
-                          const fs::path& library, const BookletProgress& progress,
-                          const std::string& submodel) {
+std::string write_booklet(const fs::path& dir, const Booklet& booklet, const fs::path& library,
+                          const BookletProgress& progress) {
   check_booklet_folder(dir);
   NewFolder made(dir);
-  Pictures pictures = render(made.path(), booklet, model, library, progress, submodel);
+  Pictures pictures = render(made.path(), booklet, library, progress);
   ldraw::write_file_atomically(made.path() / "index.html", html(booklet, pictures, true));
   if (const std::string unprinted = print_pdf(made.path(), progress); !unprinted.empty()) {
     pictures.note += (pictures.note.empty() ? "" : " ") + unprinted;

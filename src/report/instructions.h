@@ -38,9 +38,10 @@ struct Booklet {
   ldraw::ColorTable colors;      // names and looks of the colours (the model's table)
   // What the pictures show: every part where the model puts it, as one LDraw file with a STEP
   // after each of `steps`, so that a renderer's step k is steps[k - 1], and LeoCAD's camera
-  // kStepCamera framing each step (step_camera.h). Empty when the model
-  // defines parts of its own (a renderer finds those only in the model's file).
+  // kStepCamera framing each step (step_camera.h).
   std::string drawn;
+  // The parts the model embeds (a packed MPD's), as FILE blocks a renderer reads after `drawn`.
+  std::string embedded;
 };
 
 // The parts of a model read from LDraw, step by step (submodels flattened, a submodel's parts in
@@ -55,13 +56,13 @@ using BookletProgress = std::function<void(const std::string&)>;
 // Throws InputError unless a booklet may be written into DIR (see write_booklet); creates nothing.
 void check_booklet_folder(const std::filesystem::path& dir);
 
-// Writes DIR/index.html and its pictures (DIR/step-NNN.png, DIR/cover.png), rendering `model`
-// with LeoCAD and the parts library `library` (its FILE `submodel` of an MPD when given). DIR may
+// Writes DIR/index.html and its pictures (DIR/step-NNN.png, DIR/cover.png, DIR/part-NNN.png),
+// rendering the booklet's own file with LeoCAD and the parts library `library`. DIR may
 // not exist, be empty, or hold a booklet written before (which is replaced); anything else is
 // refused with InputError, so nothing a user keeps there is overwritten. Returns a note on the
 // pictures (empty when all were rendered).
 std::string write_booklet(const std::filesystem::path& dir, const Booklet& booklet,
-                          const std::filesystem::path& model, const std::filesystem::path& library,
-                          const BookletProgress& progress = {}, const std::string& submodel = {});
+                          const std::filesystem::path& library,
+                          const BookletProgress& progress = {});
 
 }  // namespace lego::report

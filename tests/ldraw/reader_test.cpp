@@ -116,6 +116,20 @@ TEST(Reader, RecordsStepsAndRotsteps) {
   EXPECT_EQ(m.parts[2].step, 3);
 }
 
+// A leading ROTSTEP (a view turned before anything is placed) or two STEPs in a row make no
+// step: step 1 is the first that places a part, as a builder counts them.
+TEST(Reader, AStepThatPlacesNothingIsNoStep) {
+  Model m = read_text(
+      "0 m\n0 ROTSTEP 0 90 0 REL\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n0 STEP\n"
+      "1 1 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n",
+      "r.ldr");
+  ASSERT_EQ(m.steps.size(), 2u);
+  EXPECT_EQ(m.steps[0].number, 1);
+  EXPECT_EQ(m.steps[1].number, 2);
+  EXPECT_EQ(m.parts[0].step, 1);
+  EXPECT_EQ(m.parts[1].step, 2);
+}
+
 // Steps inside a submodel count where it is first placed, as LPub3D and LeoCAD show them: its
 // own steps, then the rest of the step that places it; placed again, it comes whole.
 TEST(Reader, SubmodelStepsCountWhereItIsFirstPlaced) {
