@@ -224,6 +224,31 @@ TEST_F(Booklet, PicturesFollowTheBookletsStepsThroughSubmodels) {
   }
 }
 
+// A packed MPD embeds its parts: the booklet's own file carries them, so every step has its
+// picture and every part its own.
+TEST_F(Booklet, APackedModelsEmbeddedPartsAreDrawn) {
+  SKIP_WITHOUT_SHARED();
+  if (!test::have("leocad") || !test::have("xvfb-run"))
+    GTEST_SKIP() << "leocad or xvfb-run is not installed";
+  const fs::path book = dir_ / "packed-book";
+  const auto run = run_tool(
+      "brickcheck",
+      {"--ldraw-dir", (test::shared_dir() / "ldraw-library").string(), "--instructions",
+       book.string(), (test::shared_dir() / "ldraw-models" / "car.ldr_Packed.mpd").string()});
+  const std::string html = text_of(book / "index.html");
+  ASSERT_FALSE(html.empty()) << run.out << run.err;
+  size_t steps = 0, parts = 0;
+  for (const auto& e : fs::directory_iterator(book)) {
+    const std::string name = e.path().filename().string();
+    steps += name.rfind("step-", 0) == 0;
+    parts += name.rfind("part-", 0) == 0;
+  }
+  EXPECT_EQ(steps, 8u) << run.err;
+  EXPECT_EQ(steps, count(html, "<section class=\"step\""));
+  EXPECT_GT(parts, 20u) << run.err;
+  EXPECT_EQ(html.find("did not render"), std::string::npos);
+}
+
 // Each step's picture is framed on the model so far, and on a step's few new parts where they are
 // a small share of it: the camera LeoCAD renders the booklet's steps with has a key per step.
 TEST(StepCamera, FramesTheModelSoFarAndSmallStepsCloser) {
