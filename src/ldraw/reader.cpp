@@ -68,12 +68,20 @@ struct RefLine {
   int color = kMainColor;
   Transform transform;
   std::string name;
+  bool ghost = false;  // written `0 GHOST 1 ...`: drawn, not in the parts list
 };
 struct StepMark {
   int line = 0;
   std::string rotstep;
 };
-using Entry = std::variant<RefLine, StepMark>;
+// `0 BUFEXCHG A STORE` / `RETRIEVE` (MLCad): what is shown is kept in, or taken back from, a
+// buffer A to Z.
+struct BufferMark {
+  int line = 0;
+  char buffer = 'A';
+  bool store = true;
+};
+using Entry = std::variant<RefLine, StepMark, BufferMark>;
 
 struct Block {
   std::string name;  // FILE name as written; the file name for a plain .ldr
@@ -227,6 +235,19 @@ class Parser {
       }
       if (!ok) warn(line_no, fmt::format("malformed ROTSTEP '{}' (taken as a plain STEP)", rest));
       b.entries.push_back(StepMark{line_no, ok ? std::string(rest) : std::string()});
+    } else if (word == "GHOST") {
+      std::string_view line = rest;
+      if (next_token(line) == "1") parse_reference(line, line_no, /*ghost=*/true);
+    } else if (word == "BUFEXCHG") {
+      std::string_view args = rest;
+      const std::string_view buffer = next_token(args);
+      const std::string action = ascii_lower(trim(args));
+      const bool letter = buffer.size() == 1 && std::isalpha(static_cast<unsigned char>(buffer[0]));
+      if (!letter || (action != "store" && action != "retrieve"))
+        warn(line_no, fmt::format("malformed BUFEXCHG '{}' is ignored", rest));
+      else
+        b.entries.push_back(BufferMark{
+            line_no, char(std::toupper(static_cast<unsigned char>(buffer[0]))), action == "store"});
     } else if (word == "Name:") {
       b.name_meta = std::string(rest);
     } else if (word == "Author:") {
@@ -245,7 +266,7 @@ class Parser {
     }
   }
 
-  void parse_reference(std::string_view rest, int line_no) {
+  void parse_reference(std::string_view rest, int line_no, bool ghost = false) {
     std::string_view color_token = next_token(rest);
     auto color = parse_color_code(color_token);
     if (!color) {  // LDraw viewers draw the part anyway: so do we, in the colour it inherits
@@ -275,6 +296,7 @@ class Parser {
     ref.transform.pos = {v[0], v[1], v[2]};
     std::copy(v + 3, v + 12, ref.transform.rot.begin());
     ref.name = std::string(name);
+    ref.ghost = ghost;
     block().entries.push_back(std::move(ref));
   }
 };
@@ -381,9 +403,14 @@ class Flattener {
         if (parts_in_step() > 0) end_step(mark->rotstep);
         continue;
       }
+      if (const auto* mark = std::get_if<BufferMark>(&entry)) {
+        exchange(*mark);
+        continue;
+      }
       expand(doc, std::get<RefLine>(entry), Transform{}, kMainColor, "");
     }
     if (parts_in_step() > 0 || model_.steps.empty()) end_step({});
+    set_aside_what_is_not_shown();
   }
 
  private:
@@ -393,7 +420,8 @@ class Flattener {
   std::vector<std::unique_ptr<Document>> documents_;
   std::map<fs::path, const Document*> external_;
   std::vector<const Block*> stack_;
-  int inside_ = -1;  // the placement being expanded (Model::placements), -1: the main model
+  int inside_ = -1;     // the placement being expanded (Model::placements), -1: the main model
+  bool ghost_ = false;  // expanding a GHOST line: its parts are ghosts
   CaseInsensitiveFinder finder_;
   bool budget_exceeded_ = false;
   // Building steps: the main model's, and a submodel's own where it is first placed (as LPub3D
@@ -403,6 +431,56 @@ class Flattener {
   size_t step_start_ = 0;  // parts placed before the current step
   std::set<const Block*> placed_;
   std::map<const Block*, bool> part_blocks_;
+
+  // MLCad's buffers (BUFEXCHG), in the main model: which parts are shown, and what each buffer
+  // holds, once the file exchanges one (before that, every part is shown).
+  bool buffered_ = false;
+  std::vector<char> shown_;
+  std::map<char, std::vector<char>> buffers_;
+
+  void exchange(const BufferMark& mark) {
+    buffered_ = true;
+    shown_.resize(model_.parts.size(), 1);  // what was placed since is shown
+    if (mark.store) {
+      buffers_[mark.buffer] = shown_;
+    } else {
+      // A buffer never stored holds nothing: "retrieve an empty buffer" shows a sub-assembly alone.
+      auto it = buffers_.find(mark.buffer);
+      shown_ = it == buffers_.end() ? std::vector<char>() : it->second;
+      shown_.resize(model_.parts.size(), 0);
+    }
+  }
+
+  // The finished model is what is shown at its end: parts placed while a buffer showed something
+  // else, and not shown since (a sub-assembly built aside, put in place by GHOST lines), are set
+  // aside (Model::aside); a ghost not shown at the end is nothing. Steps count both kinds.
+  void set_aside_what_is_not_shown() {
+    if (!buffered_) return;
+    shown_.resize(model_.parts.size(), 1);
+    std::vector<PlacedPart> kept;
+    for (size_t i = 0; i < model_.parts.size(); ++i) {
+      PlacedPart& p = model_.parts[i];
+      if (shown_[i])
+        kept.push_back(std::move(p));
+      else if (!p.ghost)
+        model_.aside.push_back(std::move(p));
+    }
+    model_.parts = std::move(kept);
+    // Steps left with nothing go, and the others are numbered again.
+    std::map<int, int> number;
+    for (const PlacedPart& p : model_.parts) number[p.step] = 0;
+    for (const PlacedPart& p : model_.aside) number[p.step] = 0;
+    std::vector<Step> steps;
+    for (const Step& st : model_.steps)
+      if (auto it = number.find(st.number); it != number.end()) {
+        it->second = int(steps.size()) + 1;
+        steps.push_back({it->second, 0, st.rotstep, 0});
+      }
+    for (PlacedPart& p : model_.parts) ++steps[size_t((p.step = number[p.step]) - 1)].parts;
+    for (PlacedPart& p : model_.aside) ++steps[size_t((p.step = number[p.step]) - 1)].aside;
+    if (steps.empty()) steps.push_back(Step{});
+    model_.steps = std::move(steps);
+  }
 
   int parts_in_step() const { return int(model_.parts.size() - step_start_); }
   void end_step(const std::string& rotstep) {
@@ -541,6 +619,7 @@ class Flattener {
     p.file = doc.file;
     p.line = ref.line;
     p.step = step_;
+    p.ghost = ghost_ || ref.ghost;
     p.submodel = submodel;
     p.definition = std::move(definition);
     p.embedded_definition = std::move(embedded);
@@ -616,16 +695,21 @@ class Flattener {
     const size_t placements_before = model_.placements.size();
     const size_t parts_before = model_.parts.size();
     const int outer = inside_;
+    const bool outer_ghost = ghost_;
     model_.placements.push_back({outer, ref.transform});
     inside_ = int(placements_before);
+    ghost_ = ghost_ || ref.ghost;
     const bool first = placed_.insert(&target).second;
+    // A submodel's BUFEXCHG lines are not followed: MLCad's buffers are the main model's view.
     for (const Entry& entry : target.entries) {
       if (const auto* child = std::get_if<RefLine>(&entry))
         expand(doc, *child, world, color, target.name);
-      else if (first && parts_in_step() > 0)  // its own step, the first time it is placed
-        end_step(std::get<StepMark>(entry).rotstep);
+      else if (const auto* mark = std::get_if<StepMark>(&entry);
+               mark && first && parts_in_step() > 0)  // its own step, the first time it is placed
+        end_step(mark->rotstep);
     }
     inside_ = outer;
+    ghost_ = outer_ghost;
     if (model_.parts.size() == parts_before) model_.placements.resize(placements_before);
     stack_.pop_back();
   }

@@ -48,6 +48,9 @@ struct PlacedPart {
   std::string submodel;              // the model block holding the line ("" = main model)
   std::filesystem::path definition;  // its part file, when one was found on disk
   std::string embedded_definition;   // its FILE block name, when the MPD embeds it
+  // Placed by a `0 GHOST` line (MLCad): part of the model as drawn, not of its parts list (it
+  // shows in place a sub-assembly built aside, whose own lines are counted).
+  bool ghost = false;
 };
 
 // One step of the main model, ended by `0 STEP`, `0 ROTSTEP` or the end of the file; a step that
@@ -56,6 +59,7 @@ struct Step {
   int number = 1;
   int parts = 0;        // placed parts added in this step (after flattening)
   std::string rotstep;  // the ROTSTEP that ended it, if any ("0 0 180 REL", "END")
+  int aside = 0;        // parts built aside in it (Model::aside)
 };
 
 struct Model {
@@ -66,6 +70,10 @@ struct Model {
   // The model files read: the main one (read_file) and every external submodel file, once each.
   std::vector<std::filesystem::path> files;
   std::vector<PlacedPart> parts;
+  // Parts a BUFEXCHG sequence builds aside (a sub-assembly shown alone while it is built) and
+  // that are not shown at the model's end: not in the finished model, which has them in place by
+  // other lines (GHOST, usually), but in its parts list and in the steps that build them.
+  std::vector<PlacedPart> aside;
   std::vector<SubmodelPlacement> placements;  // those that hold a part, directly or not
   std::vector<Step> steps;
   std::vector<Color> colors;  // `0 !COLOUR` definitions found in the file

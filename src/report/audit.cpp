@@ -650,7 +650,9 @@ void audit_steps(Audit& audit, const AuditOptions& options) {
       audit.unchecked_from_step = step;
       break;
     }
-    const StepAudit& s = analysed[size_t(step - 1)];
+    StepAudit& s = analysed[size_t(step - 1)];
+    for (const ldraw::Step& st : audit.model.steps)
+      if (st.number == step) s.aside = st.aside;
     if (s.bricks == 0 && s.status == physics::StabilityStatus::Empty && s.stable) continue;
     if (!s.stable && !audit.first_failing_step) audit.first_failing_step = step;
     audit.steps.push_back(s);

@@ -262,8 +262,9 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& lib
     const bool alone = look == Look::Alone;
     // The steps are seen by the booklet's camera, each framed; the rest from the cover's
     // direction, whole.
-    const std::string camera = look == Look::Steps ? fmt::format("-c {}", kStepCamera)
-                                                   : std::string("--camera-angles 30 45");
+    const std::string camera = look == Look::Steps   ? fmt::format("-c {}", kStepCamera)
+                               : look == Look::Whole ? fmt::format("-c {}", kCoverCamera)
+                                                     : std::string("--camera-angles 30 45");
     const std::string command = fmt::format(
         "{}leocad -l {} -i {} -w {} -h {} -f {} -t {} {} {} {} >{} 2>&1",
         display ? "" : "xvfb-run -a ", shell_quote(library.string()),
@@ -407,9 +408,9 @@ td.count {{ font-weight: bold; text-align: right; }}
   out += "<h2>Parts</h2>\n" + parts_table(b.parts, b.colors) + "</section>\n";
   for (const BookletStep& s : b.steps) {
     out += fmt::format(
-        "<section class=\"step\" id=\"step-{0}\" data-step=\"{0}\">\n<h2>Step {0} "
-        "<small>of {1}</small></h2>\n",
-        s.number, b.steps.size());
+        "<section class=\"step{2}\" id=\"step-{0}\" data-step=\"{0}\">\n<h2>Step {0} "
+        "<small>of {1}{3}</small></h2>\n",
+        s.number, b.steps.size(), s.aside ? " aside" : "", s.aside ? ", built aside" : "");
     if (auto it = pictures.step.find(s.number); it != pictures.step.end())
       out += fmt::format(
           "<img class=\"picture\" src=\"{}\" alt=\"the model after step {}, new "
@@ -425,7 +426,7 @@ td.count {{ font-weight: bold; text-align: right; }}
     if (!callout.empty()) out += "<div class=\"callout\">\n" + callout + "</div>\n";
     out += parts_table(s.parts, b.colors);
     if (!s.note.empty()) out += fmt::format("<p class=\"note\">{}</p>\n", html_escape(s.note));
-    if (s.stands) {
+    if (s.stands && !s.aside) {
       out += fmt::format("<p class=\"cm\">The model so far: C_M {} {} ({}).</p>\n",
                          s.certified ? "&ge;" : "=", cm_text(s.cm_gf),
                          *s.stands ? "it stands" : "it does not stand");
@@ -484,31 +485,50 @@ void check_booklet_folder(const fs::path& dir) {
 
 namespace {
 
-// The parts flattened, a step of the file per step of the model that places parts (submodels'
-// own steps, a leading empty step: LeoCAD would number the steps otherwise than the booklet),
-// and the camera that frames each step (step_camera.h).
+// The parts flattened, a step of the file per step of the model (submodels' own steps; steps that
+// place nothing are none), and the cameras that frame each step and the cover (step_camera.h). A
+// sub-assembly built aside (ldraw::Model::aside) is drawn beside the model, clear of it, each of
+// its steps framed on it; the finished model is framed without it.
 std::string drawn_by_step(const ldraw::Model& model,
                           const std::vector<std::optional<Box>>& bodies) {
   struct Drawn {
     std::string lines;
-    FrameBox box;
+    FrameBox box, aside;
   };
   std::map<int, Drawn> steps;
+  FrameBox model_box, aside_box;
   for (size_t i = 0; i < model.parts.size(); ++i) {
     const ldraw::PlacedPart& p = model.parts[i];
     Drawn& d = steps[p.step];
     d.lines += ldraw::part_line(p.color, p.transform, p.reference);
     d.box.add(part_box(p, i < bodies.size() ? bodies[i] : std::nullopt));
+    model_box.add(d.box);
+  }
+  for (const ldraw::PlacedPart& p : model.aside) aside_box.add(part_box(p));
+  // Along x, past the model by four studs.
+  const double shift = aside_box.empty() ? 0 : model_box.max[0] - aside_box.min[0] + 80;
+  for (ldraw::PlacedPart p : model.aside) {
+    p.transform.pos[0] += shift;
+    Drawn& d = steps[p.step];
+    d.lines += ldraw::part_line(p.color, p.transform, p.reference);
+    d.aside.add(part_box(p));
   }
   std::string out = "0 The booklet's steps\n0 Name: steps.ldr\n0 Author: legolization\n\n";
   std::vector<Frame> frames;
-  FrameBox so_far;
+  FrameBox so_far, aside_so_far;  // the model in place; the sub-assembly being built aside
   for (auto& [step, d] : steps) {
     out += d.lines + "0 STEP\n";
+    if (!d.aside.empty() && d.box.empty()) {
+      aside_so_far.add(d.aside);
+      frames.push_back(frame_step(d.aside, aside_so_far));
+      continue;
+    }
+    aside_so_far = {};
     so_far.add(d.box);
+    so_far.add(d.aside);
     frames.push_back(frame_step(d.box, so_far));
   }
-  return out + step_camera(frames);
+  return out + step_camera(frames) + camera_lines(kCoverCamera, {frame_step(model_box, model_box)});
 }
 
 }  // namespace
@@ -521,7 +541,8 @@ Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Bo
   std::map<std::string, std::string> names;
   std::map<int, std::map<std::pair<std::string, int>, PartCount>> by_step;
   std::map<std::pair<std::string, int>, PartCount> all;
-  for (const ldraw::PlacedPart& p : model.parts) {
+  std::map<int, int> ghosts, aside;  // per step
+  auto count = [&](const ldraw::PlacedPart& p) {
     auto [name, fresh] = names.try_emplace(p.part);
     if (fresh) name->second = part_name(p);
     for (auto* counts : {&by_step[p.step], &all}) {
@@ -531,11 +552,31 @@ Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Bo
       c.name = name->second;
       ++c.quantity;
     }
+  };
+  // A ghost is a part already counted where it was built aside: the step shows it, and lists it
+  // not.
+  for (const ldraw::PlacedPart& p : model.parts)
+    if (p.ghost) {
+      by_step[p.step];
+      ++ghosts[p.step];
+    } else {
+      count(p);
+    }
+  for (const ldraw::PlacedPart& p : model.aside) {
+    count(p);
+    ++aside[p.step];
   }
   for (auto& [step, counts] : by_step) {
     BookletStep s;
     s.number = step;
     s.parts = sorted(std::move(counts));
+    s.aside = aside.count(step) > 0;
+    if (s.aside)
+      s.note =
+          "Built aside: this sub-assembly is built apart from the model and set in place in "
+          "a later step.";
+    else if (ghosts.count(step))
+      s.note = "Set in place what was built aside.";
     b.steps.push_back(std::move(s));
   }
   b.parts = sorted(std::move(all));

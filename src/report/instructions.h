@@ -26,6 +26,7 @@ struct BookletStep {
   bool certified = false;  // cm_gf is a certified lower bound, not the exact C_M
   std::string why;         // when it does not stand
   std::string note;        // a word for the builder on this step (legolize: the supports)
+  bool aside = false;      // it builds a sub-assembly aside (ldraw::Model::aside), not the model
 };
 
 struct Booklet {

@@ -14,7 +14,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // LeoCAD's camera: its vertical field of view (degrees); the booklet's direction of view.
 constexpr double kFov = 30, kLatitude = 30, kLongitude = 45;
-constexpr double kMargin = 0.8;   // the sphere is wider than the model it holds seen from any side
+constexpr double kMargin = 0.9;   // the sphere is wider than the model it holds seen from any side
 constexpr double kSmallest = 30;  // LDU: a frame never closer than this around one small part
 constexpr double kNewShare = 1 / 3.0;  // new parts smaller than this share of the model: framed
 
@@ -80,7 +80,7 @@ Frame frame_step(const FrameBox& new_parts, const FrameBox& so_far) {
   return f;
 }
 
-std::string step_camera(const std::vector<Frame>& frames) {
+std::string camera_lines(const std::string& name, const std::vector<Frame>& frames) {
   const double lat = kLatitude * kPi / 180, lon = kLongitude * kPi / 180;
   // From the target towards the camera, in LDraw's frame: up (-y), and to +x and -z, as LeoCAD's
   // --camera-angles 30 45 sees the cover.
@@ -103,7 +103,7 @@ std::string step_camera(const std::vector<Frame>& frames) {
   }
   return fmt::format(
       "0 !LEOCAD CAMERA FOV {} ZNEAR 10 ZFAR 100000\n{}{}{}0 !LEOCAD CAMERA NAME {}\n", kFov,
-      position, target, upward, kStepCamera);
+      position, target, upward, name);
 }
 
 }  // namespace lego::report

@@ -40,7 +40,12 @@ struct Frame {
 Frame frame_step(const FrameBox& new_parts, const FrameBox& so_far);
 
 inline constexpr const char* kStepCamera = "Booklet";
-// LeoCAD's lines for the camera kStepCamera with a key for each frame (step k is frames[k-1]).
-std::string step_camera(const std::vector<Frame>& frames);
+inline constexpr const char* kCoverCamera = "Cover";
+// LeoCAD's lines for a camera `name` with a key for each frame (step k is frames[k-1]).
+std::string camera_lines(const std::string& name, const std::vector<Frame>& frames);
+// The camera kStepCamera.
+inline std::string step_camera(const std::vector<Frame>& frames) {
+  return camera_lines(kStepCamera, frames);
+}
 
 }  // namespace lego::report

@@ -249,6 +249,55 @@ TEST_F(Booklet, APackedModelsEmbeddedPartsAreDrawn) {
   EXPECT_EQ(html.find("did not render"), std::string::npos);
 }
 
+// A sub-assembly built aside in MLCad's buffers has its own pages: its parts listed where it is
+// built, drawn beside the model (clear of it) and framed on it; the step that sets it in place
+// (GHOST lines) lists nothing new; the cover is framed on the finished model alone.
+TEST(BookletOf, ASubAssemblyBuiltAsideHasItsOwnPages) {
+  const ldraw::Model model = ldraw::read_text(
+      "0 aside\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+      "0 BUFEXCHG A STORE\n0 BUFEXCHG B RETRIEVE\n"
+      "1 14 20 -48 0 1 0 0 0 1 0 0 0 1 3003.dat\n0 STEP\n"
+      "1 1 40 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+      "0 BUFEXCHG A RETRIEVE\n"
+      "0 GHOST 1 14 20 -72 0 1 0 0 0 1 0 0 0 1 3003.dat\n"
+      "0 GHOST 1 1 40 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n",
+      "aside.ldr");
+  ASSERT_FALSE(model.has_errors());
+  const report::Booklet b = report::booklet_of(model);
+  ASSERT_EQ(b.steps.size(), 4u);
+  EXPECT_FALSE(b.steps[0].aside);
+  EXPECT_TRUE(b.steps[1].aside);
+  EXPECT_TRUE(b.steps[2].aside);
+  EXPECT_FALSE(b.steps[3].aside);
+  ASSERT_EQ(b.steps[1].parts.size(), 1u);
+  EXPECT_EQ(b.steps[1].parts[0].part, "3003");
+  EXPECT_TRUE(b.steps[3].parts.empty()) << "the ghosts are the parts built aside";
+  EXPECT_NE(b.steps[3].note.find("Set in place"), std::string::npos);
+  int total = 0;
+  for (const auto& p : b.parts) total += p.quantity;
+  EXPECT_EQ(total, 3);
+  // Drawn: the aside parts past the model along x, the ghosts in place; and both cameras.
+  std::vector<double> xs;
+  std::istringstream lines(b.drawn);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("1 ", 0) == 0) {
+      std::istringstream in(line);
+      int type = 0, color = 0;
+      double x = 0;
+      in >> type >> color >> x;
+      xs.push_back(x);
+    }
+  // By step: the base, the two built aside, the two ghosts.
+  ASSERT_EQ(xs.size(), 5u);
+  EXPECT_EQ(xs[3], 20);
+  EXPECT_EQ(xs[4], 40);
+  // Clear of the model (whose x ends at 80) by four studs: the 2 x 2's left side, the 2 x 4's.
+  EXPECT_NEAR(xs[1] - 20, 80 + 80, 1e-9);
+  EXPECT_NEAR(xs[2] - 40, 80 + 80, 1e-9);
+  EXPECT_NE(b.drawn.find(std::string("CAMERA NAME ") + report::kStepCamera), std::string::npos);
+  EXPECT_NE(b.drawn.find(std::string("CAMERA NAME ") + report::kCoverCamera), std::string::npos);
+}
+
 // Each step's picture is framed on the model so far, and on a step's few new parts where they are
 // a small share of it: the camera LeoCAD renders the booklet's steps with has a key per step.
 TEST(StepCamera, FramesTheModelSoFarAndSmallStepsCloser) {
@@ -260,9 +309,10 @@ TEST(StepCamera, FramesTheModelSoFarAndSmallStepsCloser) {
   const ldraw::Model model = ldraw::read_text(text, "tower.ldr");
   ASSERT_FALSE(model.has_errors());
   const std::string drawn = report::booklet_of(model).drawn;
-  EXPECT_EQ(count(drawn, "0 !LEOCAD CAMERA POSITION_KEY "), 9u);
-  EXPECT_EQ(count(drawn, "0 !LEOCAD CAMERA TARGET_POSITION_KEY "), 9u);
-  EXPECT_EQ(count(drawn, "0 !LEOCAD CAMERA UP_VECTOR_KEY "), 9u);
+  // A key per step, and the cover's one.
+  EXPECT_EQ(count(drawn, "0 !LEOCAD CAMERA POSITION_KEY "), 9u + 1);
+  EXPECT_EQ(count(drawn, "0 !LEOCAD CAMERA TARGET_POSITION_KEY "), 9u + 1);
+  EXPECT_EQ(count(drawn, "0 !LEOCAD CAMERA UP_VECTOR_KEY "), 9u + 1);
   EXPECT_NE(drawn.find(std::string("0 !LEOCAD CAMERA NAME ") + report::kStepCamera),
             std::string::npos);
   // The frames: the first step's is the one brick; each step's holds the model so far and grows

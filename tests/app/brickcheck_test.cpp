@@ -132,6 +132,42 @@ TEST(Brickcheck, AFloatingStepNamesItsPart) {
   EXPECT_NE(text.find("does not stand: floating-step.ldr:4 3003"), std::string::npos) << text;
 }
 
+// A sub-assembly built aside in MLCad's buffers and set in place by GHOST lines: a blue brick on
+// the red base, a yellow one on it, built from the top down. Its steps build it apart, so none of
+// them has the yellow brick floating where it will be; the finished model is the ghosts in place.
+TEST(Brickcheck, ASubAssemblyBuiltAsideIsNotJudgedInPlaceUntilItIsSet) {
+  auto path = scratch("bufexchg.ldr");
+  const std::string base =
+      "0 a base, and a sub-assembly built aside\n"
+      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 4 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n";
+  std::ofstream(path) << base
+                      << "0 BUFEXCHG A STORE\n0 BUFEXCHG B RETRIEVE\n"
+                         "1 14 20 -96 0 1 0 0 0 1 0 0 0 1 3003.dat\n0 STEP\n"
+                         "1 1 40 -72 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                         "0 BUFEXCHG A RETRIEVE\n"
+                         "0 GHOST 1 14 20 -96 0 1 0 0 0 1 0 0 0 1 3003.dat\n"
+                         "0 GHOST 1 1 40 -72 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n";
+  json j = check_json({"--steps", path.string()}, 0);
+  EXPECT_EQ(j["parts"], 4);
+  ASSERT_EQ(j["steps"].size(), 4u);
+  const std::vector<int> aside{0, 1, 1, 0}, bricks{2, 2, 2, 4};
+  for (size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(j["steps"][k]["aside_parts"], aside[k]) << k;
+    EXPECT_EQ(j["steps"][k]["bricks"], bricks[k]) << k;
+    EXPECT_TRUE(j["steps"][k]["stable"].get<bool>()) << k;
+  }
+  const std::string text = run_tool("brickcheck", {"--steps", path.string()}).out;
+  EXPECT_NE(text.find("1 part built aside (a sub-assembly, set in place later)"), std::string::npos)
+      << text;
+  // Built in place in the same order, the yellow brick floats in step 2.
+  std::ofstream(path) << base
+                      << "1 14 20 -96 0 1 0 0 0 1 0 0 0 1 3003.dat\n0 STEP\n"
+                         "1 1 40 -72 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n";
+  j = check_json({"--steps", path.string()}, 1);
+  EXPECT_EQ(j["first_failing_step"], 2);
+}
+
 // A carried part touches with its studs too (PHYSICS.md "Carried parts": what it touches or
 // intersects): a plate turned by 45 degrees on a brick holds a brick drawn 2 LDU above it by the
 // studs that reach into it, as the police headquarters' dish hangs on its bracket's side studs.

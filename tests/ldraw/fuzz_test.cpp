@@ -21,6 +21,9 @@ std::vector<std::string> seeds() {
       "0 FILE b.ldr\n1 16 20 0 -10 0 0 1 0 1 0 -1 0 0 3001.dat\n2 24 0 0 0 1 1 1\n0 NOFILE\n",
       "0 T\r\n0 Name: t.ldr\r\n1 0x2FF0000 0 0 0 1 0 0 0 1 0 0 0 1 3005.dat\r\n4 16 0 0 0 1 0 0 1 "
       "0 1 0 0 1",
+      "0 B\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n0 BUFEXCHG A STORE\n"
+      "0 BUFEXCHG B RETRIEVE\n1 1 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+      "0 BUFEXCHG A RETRIEVE\n0 GHOST 1 1 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n",
   };
   // Our own models always; the real ones of ../shared when it is there.
   for (const auto& dir :
@@ -55,6 +58,9 @@ std::string mutate(std::string text, std::mt19937& rng) {
                                                   "\0",
                                                   " 0 0 0 ",
                                                   "0 ROTSTEP ",
+                                                  "0 BUFEXCHG A STORE\n",
+                                                  "0 BUFEXCHG A RETRIEVE\n",
+                                                  "0 GHOST ",
                                                   "3001.dat",
                                                   "\\",
                                                   "0x2",

@@ -130,6 +130,48 @@ TEST(Reader, AStepThatPlacesNothingIsNoStep) {
   EXPECT_EQ(m.parts[1].step, 2);
 }
 
+// MLCad's buffers: a sub-assembly built aside (the model stored in A, the empty B shown, the
+// sub-assembly built, A shown again), then put in place by GHOST lines. The finished model is
+// what is shown at the end: the ghosts; the lines built aside are its parts list's.
+TEST(Reader, ASubAssemblyBuiltAsideInABufferIsSetInPlaceByItsGhosts) {
+  Model m = read_text(
+      "0 m\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+      "0 BUFEXCHG A STORE\n0 BUFEXCHG B RETRIEVE\n"
+      "1 2 70 -48 0 1 0 0 0 1 0 0 0 1 3005.dat\n0 STEP\n"
+      "1 1 30 -72 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+      "0 BUFEXCHG a RETRIEVE\n"
+      "0 GHOST 1 2 70 -48 0 1 0 0 0 1 0 0 0 1 3005.dat\n"
+      "0 GHOST 1 1 30 -72 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+      "0 BUFEXCHG 7 STORE\n",
+      "b.ldr");
+  ASSERT_EQ(m.parts.size(), 3u);
+  EXPECT_FALSE(m.parts[0].ghost);
+  EXPECT_TRUE(m.parts[1].ghost);
+  EXPECT_TRUE(m.parts[2].ghost);
+  EXPECT_EQ(m.parts[1].step, 4);
+  ASSERT_EQ(m.aside.size(), 2u);
+  EXPECT_EQ(m.aside[0].part, "3005");
+  EXPECT_EQ(m.aside[0].step, 2);
+  EXPECT_EQ(m.aside[1].step, 3);
+  ASSERT_EQ(m.steps.size(), 4u);
+  const std::vector<std::pair<int, int>> counts{{1, 0}, {0, 1}, {0, 1}, {2, 0}};
+  for (size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(m.steps[k].number, int(k) + 1);
+    EXPECT_EQ(m.steps[k].parts, counts[k].first) << k;
+    EXPECT_EQ(m.steps[k].aside, counts[k].second) << k;
+  }
+  // The malformed exchange is named and ignored.
+  bool named = false;
+  for (const auto& d : m.diagnostics)
+    named = named || (d.line == 14 && d.message.find("BUFEXCHG") != std::string::npos);
+  EXPECT_TRUE(named);
+  // Without buffers, a ghost is a part of the model all the same.
+  const Model plain = read_text("0 g\n0 GHOST 1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n", "g.ldr");
+  ASSERT_EQ(plain.parts.size(), 1u);
+  EXPECT_TRUE(plain.parts[0].ghost);
+  EXPECT_TRUE(plain.aside.empty());
+}
+
 // Steps inside a submodel count where it is first placed, as LPub3D and LeoCAD show them: its
 // own steps, then the rest of the step that places it; placed again, it comes whole.
 TEST(Reader, SubmodelStepsCountWhereItIsFirstPlaced) {
