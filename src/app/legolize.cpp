@@ -795,7 +795,7 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
           {int(rep.steps.size()) + 1, bs.new_bricks, bs.bricks,
            bs.status == physics::StabilityStatus::Solved ? bs.cm_gf
                                                          : -std::numeric_limits<double>::infinity(),
-           bs.analysed, bs.stands, bs.why, bs.certified, r.order.supports_step == int(st) + 1});
+           bs.analysed, bs.stands, bs.why, bs.certified, int(st) < r.order.supports_steps});
     }
     // A piece built apart (only with --no-supports: layout/pieces.h) floats where the mesh puts
     // it, whatever it is alone: brickcheck says so of the file, and so do we.

@@ -430,17 +430,24 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
     if (options.progress)
       options.progress(int(out.steps.size()), p.placed_count, seconds_since(start));
   };
-  // Supports (layout/supports.h) first, in a step of their own: columns that stand alone on the
-  // ground, which the model is then built around and on. A column on the model (under an object
-  // the mesh leaves in the air, layout/pieces.h) comes with its layer, as any brick.
-  PlannedStep supports;
+  // Supports (layout/supports.h) first, in steps of their own: columns that stand alone on the
+  // ground, which the model is then built around and on, from the ground up, max_new_bricks at
+  // most at a time. A column on the model (under an object the mesh leaves in the air,
+  // layout/pieces.h) comes with its layer, as any brick.
+  std::vector<int> supports;
   for (int i = 0; i < p.size(); ++i)
-    if (p.grounded_support[size_t(i)]) supports.bricks.push_back(i);
-  if (!supports.bricks.empty() && !p.done()) {
-    out.supports_step = 1;
-    StepAnalysis now = analyse_step(p, std::move(supports), options);
+    if (p.grounded_support[size_t(i)]) supports.push_back(i);
+  std::stable_sort(supports.begin(), supports.end(),
+                   [&](int a, int b) { return p.layer[size_t(a)] < p.layer[size_t(b)]; });
+  const size_t chunk = options.max_new_bricks > 0 ? size_t(options.max_new_bricks) : SIZE_MAX;
+  for (size_t from = 0; from < supports.size(); from += chunk) {
+    PlannedStep step;
+    step.bricks.assign(supports.begin() + std::ptrdiff_t(from),
+                       supports.begin() + std::ptrdiff_t(std::min(supports.size(), from + chunk)));
+    StepAnalysis now = analyse_step(p, std::move(step), options);
     ++out.analyses;
-    falling_in_a_row = now.step.stands ? 0 : 1;
+    ++out.supports_steps;
+    falling_in_a_row = now.step.stands ? 0 : falling_in_a_row + 1;
     place(now, /*leaves_layer=*/true);
   }
   while (!p.done()) {

@@ -51,9 +51,10 @@ struct BuildStep {
 struct BuildOrder {
   std::vector<int> step_of;  // per brick of the assembly, 1-based
   std::vector<BuildStep> steps;
-  int held_back = 0;      // bricks moved to a later step than their layer's to make a step stand
-  int supports_step = 0;  // the step that builds the columns standing on the ground; 0: none
-  int analyses = 0;       // stability analyses run
+  int held_back = 0;  // bricks moved to a later step than their layer's to make a step stand
+  // The first steps build the columns standing on the ground: how many (0: none).
+  int supports_steps = 0;
+  int analyses = 0;  // stability analyses run
   double seconds = 0;
   bool all_stand() const;  // every step analysed and standing
   int certified_steps() const;
@@ -65,7 +66,7 @@ struct BuildOrder {
 };
 
 // Orders the bricks layer by layer from the ground up, supports (Brick::support) standing on the
-// ground first in a step of their own. Step k takes every brick of layers up to
+// ground first in steps of their own. Step k takes every brick of layers up to
 // the k-th that a brick already placed (or the ground) holds by its studs: a brick hanging from
 // the layer above comes with the next layer, in the step after the brick that holds it. Of more
 // than max_new_bricks, a group of nearby ones; the layer's others follow in the next steps. Each

@@ -272,6 +272,26 @@ TEST(LegolizeMeshes, AnObjectInTheAirStandsOnColumnsAndBrickcheckAgrees) {
   // The file as delivered stands, as brickcheck reads it, step by step too.
   auto check = run_tool("brickcheck", {"--steps", mpd.string()});
   EXPECT_EQ(check.exit_code, 0) << check.out;
+  // The columns are built from the ground up, a few bricks a step when steps are small.
+  run = run_tool("legolize", {obj.string(), "--height", "12", "-o", mpd.string(), "--report",
+                              report.string(), "--quiet", "--max-step-parts", "3"});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  r = read_json(report);
+  int in_support_steps = 0, support_steps = 0;
+  bool supports_over = false;
+  for (const auto& st : r["steps"]) {
+    EXPECT_TRUE(st["stands"].get<bool>());
+    if (!st["supports"].get<bool>()) {
+      supports_over = true;
+      continue;
+    }
+    EXPECT_FALSE(supports_over) << "the supports' steps come first";
+    EXPECT_LE(st["new_bricks"].get<int>(), 3);
+    ++support_steps;
+    in_support_steps += st["new_bricks"].get<int>();
+  }
+  EXPECT_GT(support_steps, 1);
+  EXPECT_EQ(in_support_steps, r["supports"]["bricks"].get<int>());
   // A block above the cube: its columns rest on the cube, so they come with the layers they
   // stand on, not first.
   const fs::path over = scratch("over.obj"), over_mpd = scratch("over.mpd");
