@@ -429,14 +429,15 @@ void steps_section(const std::vector<std::pair<std::string, layout::Target>>& ta
 
 // legolize's fidelity on real meshes (issue 18), per mesh at one height: the share of visible
 // voxels whose brick colour is within CIEDE2000 10 of the surface colour (current palette, and
-// the paper's eight for comparison), the pieces (objects off the ground built apart), the
+// the paper's eight for comparison), the objects in the air and the columns under them, the
+// pieces (objects off the ground built apart, none once they stand on columns), the
 // layout's parts before and after joining thin parts with the voxels added, and inside (IGNORE)
 // voxels seen from outside before colour_seen_inside and in the finished layout (target 0).
 void meshes_section(const std::vector<std::pair<std::string, fs::path>>& files, int height) {
   fmt::print("\nmeshes at {} bricks high: colour fidelity, pieces, joining, IGNORE seen\n", height);
-  fmt::print("{:<22} {:>7} {:>8} {:>7} {:>7} {:>6} {:>13} {:>6} {:>11} {:>10} {:>8} {:>6}\n",
-             "input", "voxels", "visible", "de10", "de10_pp", "pieces", "parts_bef_aft", "added",
-             "ignore_seen", "ignore_now", "warnings", "secs");
+  fmt::print("{:<22} {:>7} {:>8} {:>7} {:>7} {:>6} {:>8} {:>13} {:>6} {:>11} {:>10} {:>8} {:>6}\n",
+             "input", "voxels", "visible", "de10", "de10_pp", "pieces", "in_air", "parts_bef_aft",
+             "added", "ignore_seen", "ignore_now", "warnings", "secs");
   const auto& table = ldraw::ColorTable::standard();
   for (const auto& [name, file] : files) {
     if (!fs::exists(file)) continue;
@@ -461,7 +462,9 @@ void meshes_section(const std::vector<std::pair<std::string, fs::path>>& files, 
         voxel::seen_from_outside(grid.width, grid.height, grid.depth,
                                  [&](size_t c) { return grid.cells[c] != voxel::Cell::Empty; });
     // The layout in the current palette: its bricks' colours at the visible voxels.
-    const layout::Target target = layout::target_from_voxels(grid, current);
+    // As legolize: what is in the air stands on columns, then the pieces.
+    layout::Target target = layout::target_from_voxels(grid, current);
+    const layout::FloatingSupports floating = layout::stand_floating_objects(target);
     std::vector<layout::Piece> pieces = layout::split_pieces(target);
     std::vector<int> brick_color(target.color.size(), layout::kEmpty);
     int before = 0, after = 0;
@@ -501,10 +504,12 @@ void meshes_section(const std::vector<std::pair<std::string, fs::path>>& files, 
     }
     const double n = double(std::max<size_t>(visible.size(), 1));
     fmt::print(
-        "{:<22} {:>7} {:>8} {:>6.1f}% {:>6.1f}% {:>6} {:>13} {:>6} {:>11} {:>10} {:>8} {:>6.1f}\n",
+        "{:<22} {:>7} {:>8} {:>6.1f}% {:>6.1f}% {:>6} {:>8} {:>13} {:>6} {:>11} {:>10} {:>8} "
+        "{:>6.1f}\n",
         name, target.filled(), visible.size(), 100.0 * close / n, 100.0 * close_paper / n,
-        pieces.size(), fmt::format("{} -> {}", before, after), added, ignore_before, ignore_now,
-        m.warnings.size(), seconds_since(t));
+        pieces.size(), fmt::format("{}/{}", floating.objects, floating.columns),
+        fmt::format("{} -> {}", before, after), added, ignore_before, ignore_now, m.warnings.size(),
+        seconds_since(t));
     std::fflush(stdout);
   }
 }
