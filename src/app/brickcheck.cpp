@@ -90,6 +90,7 @@ void write_instructions(const report::Audit& audit, const fs::path& dir,
         if (s.status == physics::StabilityStatus::Solved) bs.cm_gf = s.cm_gf;
         bs.stands = s.stable;
         bs.certified = s.certified;
+        bs.sub_assembly_judged = s.apart;
         bs.why = s.why;
       }
   if (audit.stability.status == physics::StabilityStatus::Solved)

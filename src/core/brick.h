@@ -15,6 +15,9 @@ struct SourceRef {
   std::string file;
   int line = 0;
   int step = 0;  // 1-based build step of the main model, 0 when unknown
+  // Built apart in a sub-assembly (ldraw::PlacedPart::built_in, apart_from): the step that builds
+  // it, and the sub-assembly's first step; 0 when built in place.
+  int built_in = 0, apart_from = 0;
 };
 
 // Where a part is, as LDraw places it: world = rotation · local + origin, in LDraw's frame (LDU,

@@ -411,6 +411,7 @@ class Flattener {
     }
     if (parts_in_step() > 0 || model_.steps.empty()) end_step({});
     set_aside_what_is_not_shown();
+    count_steps();
   }
 
  private:
@@ -424,9 +425,8 @@ class Flattener {
   bool ghost_ = false;  // expanding a GHOST line: its parts are ghosts
   CaseInsensitiveFinder finder_;
   bool budget_exceeded_ = false;
-  // Building steps: the main model's, and a submodel's own where it is first placed (as LPub3D
-  // and LeoCAD show them: its steps, then the rest of the step that places it); only those that
-  // place a part.
+  // Building steps: the main model's, and a submodel's own where it is first placed, before the
+  // step that places it (building_apart_); only those that place a part.
   int step_ = 1;
   size_t step_start_ = 0;  // parts placed before the current step
   std::set<const Block*> placed_;
@@ -453,22 +453,46 @@ class Flattener {
 
   // The finished model is what is shown at its end: parts placed while a buffer showed something
   // else, and not shown since (a sub-assembly built aside, put in place by GHOST lines), are set
-  // aside (Model::aside); a ghost not shown at the end is nothing. Steps count both kinds.
+  // aside (Model::aside); a ghost not shown at the end is nothing.
   void set_aside_what_is_not_shown() {
     if (!buffered_) return;
     shown_.resize(model_.parts.size(), 1);
     std::vector<PlacedPart> kept;
     for (size_t i = 0; i < model_.parts.size(); ++i) {
       PlacedPart& p = model_.parts[i];
-      if (shown_[i])
+      if (shown_[i]) {
         kept.push_back(std::move(p));
-      else if (!p.ghost)
+      } else if (!p.ghost) {
+        if (p.built_in > 0) p.step = p.built_in;  // built, and never shown in place
+        p.built_in = p.apart_from = 0;
         model_.aside.push_back(std::move(p));
+      }
     }
     model_.parts = std::move(kept);
-    // Steps left with nothing go, and the others are numbered again.
+  }
+
+  // A submodel with steps of its own is a sub-assembly built apart the first time it is placed,
+  // as LPub3D's instructions build it: its steps come before the step that places it, which has
+  // it whole, in place; its parts are in place from that step (PlacedPart::built_in says where
+  // each was built). Submodels inside it are part of its building.
+  bool building_apart_ = false;
+  static bool has_steps(const Block& b) {
+    bool placed = false;
+    for (const Entry& e : b.entries) {
+      if (std::holds_alternative<RefLine>(e)) placed = true;
+      if (placed && std::holds_alternative<StepMark>(e)) return true;
+    }
+    return false;
+  }
+
+  // Steps counted from the parts (Step::parts in place, Step::aside built aside); steps left with
+  // nothing go, and the others are numbered again.
+  void count_steps() {
     std::map<int, int> number;
-    for (const PlacedPart& p : model_.parts) number[p.step] = 0;
+    for (const PlacedPart& p : model_.parts) {
+      number[p.step] = 0;
+      if (p.built_in > 0) number[p.built_in] = 0;
+    }
     for (const PlacedPart& p : model_.aside) number[p.step] = 0;
     std::vector<Step> steps;
     for (const Step& st : model_.steps)
@@ -476,7 +500,13 @@ class Flattener {
         it->second = int(steps.size()) + 1;
         steps.push_back({it->second, 0, st.rotstep, 0});
       }
-    for (PlacedPart& p : model_.parts) ++steps[size_t((p.step = number[p.step]) - 1)].parts;
+    for (PlacedPart& p : model_.parts) {
+      ++steps[size_t((p.step = number[p.step]) - 1)].parts;
+      if (p.built_in == 0) continue;
+      // The sub-assembly's first step is its first that places a part.
+      p.apart_from = number.lower_bound(p.apart_from)->second;
+      ++steps[size_t((p.built_in = number[p.built_in]) - 1)].aside;
+    }
     for (PlacedPart& p : model_.aside) ++steps[size_t((p.step = number[p.step]) - 1)].aside;
     if (steps.empty()) steps.push_back(Step{});
     model_.steps = std::move(steps);
@@ -700,6 +730,15 @@ class Flattener {
     inside_ = int(placements_before);
     ghost_ = ghost_ || ref.ghost;
     const bool first = placed_.insert(&target).second;
+    // Built apart: its steps hold its own parts only; the main model's parts placed so far in
+    // this step wait for the step that places it.
+    const bool apart = first && !building_apart_ && has_steps(target);
+    const size_t main_from = step_start_;
+    const int apart_from = step_;
+    if (apart) {
+      building_apart_ = true;
+      step_start_ = parts_before;
+    }
     // A submodel's BUFEXCHG lines are not followed: MLCad's buffers are the main model's view.
     for (const Entry& entry : target.entries) {
       if (const auto* child = std::get_if<RefLine>(&entry))
@@ -707,6 +746,17 @@ class Flattener {
       else if (const auto* mark = std::get_if<StepMark>(&entry);
                mark && first && parts_in_step() > 0)  // its own step, the first time it is placed
         end_step(mark->rotstep);
+    }
+    if (apart) {
+      building_apart_ = false;
+      if (parts_in_step() > 0) end_step({});  // the sub-assembly whole
+      for (size_t i = parts_before; i < model_.parts.size(); ++i) {
+        model_.parts[i].built_in = model_.parts[i].step;
+        model_.parts[i].apart_from = apart_from;
+        model_.parts[i].step = step_;
+      }
+      for (size_t i = main_from; i < parts_before; ++i) model_.parts[i].step = step_;
+      step_start_ = main_from;  // the placing step: the main model's parts and the sub-assembly
     }
     inside_ = outer;
     ghost_ = outer_ghost;

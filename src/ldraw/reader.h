@@ -51,15 +51,21 @@ struct PlacedPart {
   // Placed by a `0 GHOST` line (MLCad): part of the model as drawn, not of its parts list (it
   // shows in place a sub-assembly built aside, whose own lines are counted).
   bool ghost = false;
+  // The step that builds it apart, in a sub-assembly (a submodel with steps of its own, the first
+  // time it is placed): it is in place from `step`, which places the sub-assembly whole. 0: it is
+  // built in place, at `step`.
+  int built_in = 0;
+  int apart_from = 0;  // with built_in: the sub-assembly's first step (which one it is part of)
 };
 
 // One step of the main model, ended by `0 STEP`, `0 ROTSTEP` or the end of the file; a step that
-// places no part is not one (a leading ROTSTEP does not make an empty step 1).
+// places no part is not one (a leading ROTSTEP does not make an empty step 1). A submodel's own
+// steps come where it is first placed, before the step that places it (PlacedPart::built_in).
 struct Step {
   int number = 1;
   int parts = 0;        // placed parts added in this step (after flattening)
   std::string rotstep;  // the ROTSTEP that ended it, if any ("0 0 180 REL", "END")
-  int aside = 0;        // parts built aside in it (Model::aside)
+  int aside = 0;        // parts built apart in it (PlacedPart::built_in, Model::aside)
 };
 
 struct Model {

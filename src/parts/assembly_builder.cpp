@@ -368,7 +368,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
       out.skipped.push_back({i, why, false, submodel});
       continue;
     }
-    const SourceRef source{p.file, p.line, p.step};
+    const SourceRef source{p.file, p.line, p.step, p.built_in, p.apart_from};
     std::string carried_reason = k->carried_reason;
     std::array<double, 9> rotation = placed.rot;
     bool approximate = false;

@@ -543,36 +543,54 @@ void explain_falling_step(const Audit& audit, const physics::StabilityResult& r,
 StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options,
                      const physics::StepForces* start, physics::StepForces* forces) {
   const Assembly& whole = audit.conversion.assembly;
+  // A step that builds a sub-assembly apart (a submodel with steps of its own) judges it alone,
+  // as built so far, on the table it is built on: resting at its lowest point, nothing holding
+  // its knobs. The model in place is as the step before left it.
+  const SourceRef* apart = nullptr;
+  for (const Brick& b : whole.bricks)
+    if (b.source.built_in == step) apart = &b.source;
+  for (const CarriedPart& c : whole.carried)
+    if (!apart && c.source.built_in == step) apart = &c.source;
+  auto placed = [&](const SourceRef& s) {
+    if (!apart) return s.step <= step;
+    return s.apart_from == apart->apart_from && s.step == apart->step && s.built_in > 0 &&
+           s.built_in <= step;
+  };
   Assembly partial;
   partial.origin_ldu = whole.origin_ldu;
-  partial.ground_height = audit.stability.graph.ground_height;
-  partial.ground_slope = audit.stability.graph.ground_slope;
+  if (!apart) {
+    partial.ground_height = audit.stability.graph.ground_height;
+    partial.ground_slope = audit.stability.graph.ground_slope;
+  }
   std::vector<int> index(whole.bricks.size(), -1), whole_index, whole_carried_index;
   for (int i = 0; i < int(whole.bricks.size()); ++i)
-    if (whole.bricks[size_t(i)].source.step <= step) {
+    if (placed(whole.bricks[size_t(i)].source)) {
       index[size_t(i)] = int(partial.bricks.size());
       whole_index.push_back(i);
       partial.bricks.push_back(whole.bricks[size_t(i)]);
     }
   for (int i = 0; i < int(whole.carried.size()); ++i)
-    if (whole.carried[size_t(i)].source.step <= step) {
+    if (placed(whole.carried[size_t(i)].source)) {
       whole_carried_index.push_back(i);
       partial.carried.push_back(whole.carried[size_t(i)]);
     }
   for (const auto& load : whole.loads)
-    if (index[size_t(load.brick)] >= 0)
+    if (!apart && index[size_t(load.brick)] >= 0)
       partial.loads.push_back(
           {index[size_t(load.brick)], load.force_n, load.spread_over_top_knobs, load.point});
   StepAudit s;
   s.step = step;
   s.bricks = int(partial.bricks.size());
+  s.apart = apart != nullptr;
   if (partial.bricks.empty() && partial.carried.empty()) {
     s.stable = true;
     return s;
   }
-  physics::StepStability analysed = physics::analyze_step(
-      partial, whole_index, start ? *start : physics::StepForces{}, options.stability,
-      start ? std::optional<double>(options.min_cm_gf) : std::nullopt);
+  physics::StabilityOptions stability = options.stability;
+  if (apart) stability.ground = physics::GroundMode::Table;
+  physics::StepStability analysed =
+      physics::analyze_step(partial, whole_index, start ? *start : physics::StepForces{}, stability,
+                            start ? std::optional<double>(options.min_cm_gf) : std::nullopt);
   const physics::StabilityResult& r = analysed.result;
   s.status = r.status;
   s.cm_gf = r.cm_gf();

@@ -60,8 +60,11 @@ struct StepAudit {
   physics::StabilityStatus status = physics::StabilityStatus::Empty;
   double cm_gf = 0;
   int floating = 0;  // bricks and carried parts that reach no ground after this step
-  // Parts it builds aside (ldraw::Model::aside): the model in place is as after the step before.
+  // Parts it builds apart (ldraw::Step::aside): the model in place is as after the step before.
   int aside = 0;
+  // It builds a sub-assembly (a submodel with steps of its own), judged alone on the table: what
+  // `bricks` and the C_M are of.
+  bool apart = false;
   bool stable = false;
   // cm_gf is a certified lower bound (physics/step_stability.h), not the exact C_M: the exact
   // one is asked of the weakest step alone.

@@ -426,8 +426,9 @@ td.count {{ font-weight: bold; text-align: right; }}
     if (!callout.empty()) out += "<div class=\"callout\">\n" + callout + "</div>\n";
     out += parts_table(s.parts, b.colors);
     if (!s.note.empty()) out += fmt::format("<p class=\"note\">{}</p>\n", html_escape(s.note));
-    if (s.stands && !s.aside) {
-      out += fmt::format("<p class=\"cm\">The model so far: C_M {} {} ({}).</p>\n",
+    if (s.stands && (!s.aside || s.sub_assembly_judged)) {
+      out += fmt::format("<p class=\"cm\">{}: C_M {} {} ({}).</p>\n",
+                         s.aside ? "The sub-assembly so far, on the table" : "The model so far",
                          s.certified ? "&ge;" : "=", cm_text(s.cm_gf),
                          *s.stands ? "it stands" : "it does not stand");
       if (!*s.stands && !s.why.empty())
@@ -497,19 +498,25 @@ std::string drawn_by_step(const ldraw::Model& model,
   };
   std::map<int, Drawn> steps;
   FrameBox model_box, aside_box;
+  // What is built apart: the parts a buffer sets aside, and those of sub-assemblies, drawn where
+  // they are built.
+  std::vector<std::pair<int, const ldraw::PlacedPart*>> apart;
   for (size_t i = 0; i < model.parts.size(); ++i) {
     const ldraw::PlacedPart& p = model.parts[i];
     Drawn& d = steps[p.step];
     d.lines += ldraw::part_line(p.color, p.transform, p.reference);
     d.box.add(part_box(p, i < bodies.size() ? bodies[i] : std::nullopt));
     model_box.add(d.box);
+    if (p.built_in > 0) apart.emplace_back(p.built_in, &p);
   }
-  for (const ldraw::PlacedPart& p : model.aside) aside_box.add(part_box(p));
+  for (const ldraw::PlacedPart& p : model.aside) apart.emplace_back(p.step, &p);
+  for (const auto& [step, p] : apart) aside_box.add(part_box(*p));
   // Along x, past the model by four studs.
   const double shift = aside_box.empty() ? 0 : model_box.max[0] - aside_box.min[0] + 80;
-  for (ldraw::PlacedPart p : model.aside) {
+  for (const auto& [step, part] : apart) {
+    ldraw::PlacedPart p = *part;
     p.transform.pos[0] += shift;
-    Drawn& d = steps[p.step];
+    Drawn& d = steps[step];
     d.lines += ldraw::part_line(p.color, p.transform, p.reference);
     d.aside.add(part_box(p));
   }
@@ -541,11 +548,11 @@ Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Bo
   std::map<std::string, std::string> names;
   std::map<int, std::map<std::pair<std::string, int>, PartCount>> by_step;
   std::map<std::pair<std::string, int>, PartCount> all;
-  std::map<int, int> ghosts, aside;  // per step
-  auto count = [&](const ldraw::PlacedPart& p) {
+  std::map<int, int> set_in_place, aside;  // per step
+  auto count = [&](const ldraw::PlacedPart& p, int step) {
     auto [name, fresh] = names.try_emplace(p.part);
     if (fresh) name->second = part_name(p);
-    for (auto* counts : {&by_step[p.step], &all}) {
+    for (auto* counts : {&by_step[step], &all}) {
       PartCount& c = (*counts)[{p.part, p.color}];
       c.part = p.part;
       c.color = p.color;
@@ -553,17 +560,22 @@ Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Bo
       ++c.quantity;
     }
   };
-  // A ghost is a part already counted where it was built aside: the step shows it, and lists it
-  // not.
-  for (const ldraw::PlacedPart& p : model.parts)
-    if (p.ghost) {
+  // A part built apart is listed where it is built; where it is set in place (a sub-assembly
+  // placed whole, or its ghost) the step shows it, and lists it not.
+  for (const ldraw::PlacedPart& p : model.parts) {
+    if (p.ghost || p.built_in > 0) {
       by_step[p.step];
-      ++ghosts[p.step];
+      ++set_in_place[p.step];
     } else {
-      count(p);
+      count(p, p.step);
     }
+    if (p.built_in > 0 && !p.ghost) {
+      count(p, p.built_in);
+      ++aside[p.built_in];
+    }
+  }
   for (const ldraw::PlacedPart& p : model.aside) {
-    count(p);
+    count(p, p.step);
     ++aside[p.step];
   }
   for (auto& [step, counts] : by_step) {
@@ -575,7 +587,7 @@ Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Bo
       s.note =
           "Built aside: this sub-assembly is built apart from the model and set in place in "
           "a later step.";
-    else if (ghosts.count(step))
+    else if (set_in_place.count(step))
       s.note = "Set in place what was built aside.";
     b.steps.push_back(std::move(s));
   }

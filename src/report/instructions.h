@@ -26,7 +26,8 @@ struct BookletStep {
   bool certified = false;  // cm_gf is a certified lower bound, not the exact C_M
   std::string why;         // when it does not stand
   std::string note;        // a word for the builder on this step (legolize: the supports)
-  bool aside = false;      // it builds a sub-assembly aside (ldraw::Model::aside), not the model
+  bool aside = false;      // it builds a sub-assembly apart (ldraw::Step::aside), not the model
+  bool sub_assembly_judged = false;  // cm_gf and stands are the sub-assembly's, on the table
 };
 
 struct Booklet {
@@ -45,8 +46,9 @@ struct Booklet {
   std::string embedded;
 };
 
-// The parts of a model read from LDraw, step by step (submodels flattened, a submodel's parts in
-// the step where it is first placed). Names come from the catalog or the part's own file.
+// The parts of a model read from LDraw, step by step (submodels flattened; a sub-assembly's
+// parts listed in the steps that build it apart, ldraw::Step). Names come from the catalog or the
+// part's own file.
 // `bodies`, when given, is per part of the model its body in its own frame where known: the
 // pictures frame each step on it (step_camera.h).
 Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Box>>& bodies = {});

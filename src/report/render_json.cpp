@@ -196,6 +196,7 @@ json render_json(const Audit& a, const AuditOptions& options) {
            {"cm_gf", number_or_null(s.status == physics::StabilityStatus::Solved, s.cm_gf)},
            {"certified", s.certified},
            {"aside_parts", s.aside},
+           {"apart", s.apart},
            {"why", s.stable ? json(nullptr) : json(s.why)},
            {"parts", culprits}});
     }

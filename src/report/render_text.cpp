@@ -230,7 +230,10 @@ std::string render_text(const Audit& a, bool quiet) {
           : s.certified ? fmt::format("stands (certified C_M >= {:.3f} gf)", s.cm_gf)
                         : fmt::format("C_M = {:9.3f} gf", s.cm_gf);
       if (s.floating) state += fmt::format(", {} floating", plural(size_t(s.floating), "part"));
-      if (s.aside)
+      if (s.apart)
+        state += fmt::format(", {} of a sub-assembly built apart (judged alone on the table)",
+                             plural(size_t(s.aside), "part"));
+      else if (s.aside)
         state += fmt::format(", {} built aside (a sub-assembly, set in place later)",
                              plural(size_t(s.aside), "part"));
       line(fmt::format("    step {:3}: {:5} bricks  {}{}", s.step, s.bricks, state,

@@ -192,7 +192,7 @@ TEST_F(Booklet, PartNamesWithoutTheLibrarysMarks) {
 
 // An MPD whose submodel has steps of its own, placed after a leading empty step: the pictures
 // follow the booklet's steps (LeoCAD, given the file, drew one picture for the submodel's three
-// steps): each differs from the one before.
+// steps): each differs from the one before, and the submodel's pages say it is built aside.
 TEST_F(Booklet, PicturesFollowTheBookletsStepsThroughSubmodels) {
   SKIP_WITHOUT_SHARED();
   if (!test::have("leocad") || !test::have("xvfb-run"))
@@ -214,7 +214,8 @@ TEST_F(Booklet, PicturesFollowTheBookletsStepsThroughSubmodels) {
   for (const auto& e : fs::directory_iterator(book))
     if (e.path().filename().string().rfind("step-", 0) == 0) pictures.push_back(e.path());
   std::sort(pictures.begin(), pictures.end());
-  ASSERT_EQ(pictures.size(), 5u) << run.err;  // the red brick, the wall's three, the blue brick
+  // The red brick, the wall's three built apart, the wall set in place, the blue brick.
+  ASSERT_EQ(pictures.size(), 6u) << run.err;
   std::string before;
   for (const fs::path& p : pictures) {
     const std::string picture = text_of(p);
@@ -222,6 +223,7 @@ TEST_F(Booklet, PicturesFollowTheBookletsStepsThroughSubmodels) {
     EXPECT_NE(picture, before) << p << " is the picture before it";
     before = picture;
   }
+  EXPECT_EQ(count(text_of(book / "index.html"), ", built aside</small>"), 3u);
 }
 
 // A packed MPD embeds its parts: the booklet's own file carries them, so every step has its

@@ -168,6 +168,38 @@ TEST(Brickcheck, ASubAssemblyBuiltAsideIsNotJudgedInPlaceUntilItIsSet) {
   EXPECT_EQ(j["first_failing_step"], 2);
 }
 
+// A submodel with steps of its own is built apart, as LPub3D's instructions build it: its steps
+// are judged on it alone, on the table (a brick that would float where it goes stands there), and
+// the model has it whole, in place, from the step that places it.
+TEST(Brickcheck, ASubmodelsStepsAreJudgedOnItAloneOnTheTable) {
+  auto path = scratch("apart.mpd");
+  std::ofstream(path) << "0 FILE main.ldr\n0 main\n"
+                         "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                         "1 16 0 0 0 1 0 0 0 1 0 0 0 1 top.ldr\n0 STEP\n"
+                         "0 FILE top.ldr\n0 top\n"
+                         "1 1 0 -72 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                         "1 14 -20 -48 0 1 0 0 0 1 0 0 0 1 3003.dat\n0 STEP\n";
+  json j = check_json({"--steps", path.string()}, 0);
+  ASSERT_EQ(j["steps"].size(), 4u);
+  const std::vector<bool> apart{false, true, true, false};
+  const std::vector<int> bricks{1, 1, 2, 3};
+  for (size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(j["steps"][k]["apart"].get<bool>(), apart[k]) << k;
+    EXPECT_EQ(j["steps"][k]["bricks"], bricks[k]) << k;
+    EXPECT_TRUE(j["steps"][k]["stable"].get<bool>()) << k;
+  }
+  const std::string text = run_tool("brickcheck", {"--steps", path.string()}).out;
+  EXPECT_NE(text.find("of a sub-assembly built apart (judged alone on the table)"),
+            std::string::npos)
+      << text;
+  // Built in place in that order, the blue brick floats in step 2.
+  std::ofstream(path) << "0 main\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                         "1 1 0 -72 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                         "1 14 -20 -48 0 1 0 0 0 1 0 0 0 1 3003.dat\n0 STEP\n";
+  j = check_json({"--steps", path.string()}, 1);
+  EXPECT_EQ(j["first_failing_step"], 2);
+}
+
 // A carried part touches with its studs too (PHYSICS.md "Carried parts": what it touches or
 // intersects): a plate turned by 45 degrees on a brick holds a brick drawn 2 LDU above it by the
 // studs that reach into it, as the police headquarters' dish hangs on its bracket's side studs.

@@ -172,13 +172,14 @@ TEST(Reader, ASubAssemblyBuiltAsideInABufferIsSetInPlaceByItsGhosts) {
   EXPECT_TRUE(plain.aside.empty());
 }
 
-// Steps inside a submodel count where it is first placed, as LPub3D and LeoCAD show them: its
-// own steps, then the rest of the step that places it; placed again, it comes whole.
-TEST(Reader, SubmodelStepsCountWhereItIsFirstPlaced) {
+// A submodel with steps of its own is a sub-assembly built apart where it is first placed, as
+// LPub3D's instructions build it: its steps, then the step that places it whole with the rest of
+// that step's parts; its parts are in place from there. Placed again, it comes whole.
+TEST(Reader, ASubmodelsOwnStepsBuildItApartBeforeTheStepThatPlacesIt) {
   Model m = read_text(
       "0 FILE main.ldr\n"
       "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"     // step 1
-      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 wall.ldr\n"           // the wall's steps: 2, 3
+      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 wall.ldr\n"           // the wall built apart: 2, 3
       "1 4 0 -96 0 1 0 0 0 1 0 0 0 1 3003.dat\n0 STEP\n"   // the step that places it: 4
       "1 4 80 -24 0 1 0 0 0 1 0 0 0 1 wall.ldr\n0 STEP\n"  // step 5: the wall whole
       "0 FILE wall.ldr\n"
@@ -186,13 +187,30 @@ TEST(Reader, SubmodelStepsCountWhereItIsFirstPlaced) {
       "1 16 0 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n0 STEP\n",
       "main.mpd");
   ASSERT_FALSE(m.has_errors());
-  std::vector<int> steps;
-  for (const auto& p : m.parts) steps.push_back(p.step);
-  EXPECT_EQ(steps, (std::vector<int>{1, 2, 3, 4, 5, 5}));
+  std::vector<int> steps, built_in;
+  for (const auto& p : m.parts) {
+    steps.push_back(p.step);
+    built_in.push_back(p.built_in);
+  }
+  EXPECT_EQ(steps, (std::vector<int>{1, 4, 4, 4, 5, 5}));
+  EXPECT_EQ(built_in, (std::vector<int>{0, 2, 3, 0, 0, 0}));
   ASSERT_EQ(m.steps.size(), 5u);
-  int parts = 0;
-  for (const auto& s : m.steps) parts += s.parts;
-  EXPECT_EQ(parts, 6);
+  const std::vector<std::pair<int, int>> counts{{1, 0}, {0, 1}, {0, 1}, {3, 0}, {2, 0}};
+  for (size_t k = 0; k < counts.size(); ++k) {
+    EXPECT_EQ(m.steps[k].parts, counts[k].first) << k;
+    EXPECT_EQ(m.steps[k].aside, counts[k].second) << k;
+  }
+  // A part of the main model placed before the sub-assembly in the same step waits for it.
+  Model before = read_text(
+      "0 FILE main.ldr\n1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 wall.ldr\n0 STEP\n"
+      "0 FILE wall.ldr\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 3004.dat\n0 STEP\n",
+      "before.mpd");
+  ASSERT_EQ(before.parts.size(), 2u);
+  EXPECT_EQ(before.parts[0].step, 2);
+  EXPECT_EQ(before.parts[1].step, 2);
+  EXPECT_EQ(before.parts[1].built_in, 1);
+  EXPECT_EQ(before.steps.size(), 2u);
 }
 
 // Real files are forgiving where LDraw tools are: an unknown colour code is a warning (LeoCAD

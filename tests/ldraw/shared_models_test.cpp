@@ -1,7 +1,7 @@
 // The real models in ../shared/ldraw-models read without errors, with their parts, submodels
-// and steps accounted for. A submodel's own steps count where it is first placed, as LPub3D
-// and LeoCAD show them (889's truck brings five, 4915's house seventeen); a STEP that places
-// nothing (after a submodel's own last STEP, or two in a row) makes no step.
+// and steps accounted for. A submodel's own steps build it apart where it is first placed, as
+// LPub3D shows them, before the step that places it whole; a STEP that places nothing (after a
+// submodel's own last STEP, or two in a row) makes no step.
 #include <gtest/gtest.h>
 
 #include "ldraw/reader.h"
@@ -34,13 +34,19 @@ TEST_P(SharedModels, ReadWithoutErrors) {
   EXPECT_EQ(m.submodels.size(), e.submodels);
   EXPECT_EQ(m.steps.size(), e.steps);
   EXPECT_EQ(m.main_block, e.main_block);
-  int step_parts = 0;
+  int step_parts = 0, step_apart = 0, built_apart = 0;
   for (const auto& s : m.steps) {
     EXPECT_GT(s.parts + s.aside, 0)
         << "step " << s.number << ": a step that places nothing is no step";
     step_parts += s.parts;
+    step_apart += s.aside;
+  }
+  for (const auto& p : m.parts) {
+    built_apart += p.built_in > 0;
+    if (p.built_in > 0) EXPECT_LT(p.built_in, p.step) << "built apart before it is placed";
   }
   EXPECT_EQ(size_t(step_parts), m.parts.size());
+  EXPECT_EQ(step_apart, built_apart + int(m.aside.size()));
 }
 
 // Counts checked against ../shared/ldraw-models/README.md (type-1 lines, submodel references,
@@ -49,11 +55,11 @@ INSTANTIATE_TEST_SUITE_P(
     Real, SharedModels,
     testing::Values(Expected{"car.ldr", 61, 0, 8, "car.ldr"},
                     Expected{"30023-1-Lighthouse.ldr", 25, 0, 1, "30023-1-Lighthouse.ldr"},
-                    Expected{"889-1-RadarTruck.mpd", 35, 3, 6, "889 - Rader Truck.ldr"},
-                    Expected{"4838-1-MiniVehicles.mpd", 79, 2, 25,
+                    Expected{"889-1-RadarTruck.mpd", 35, 3, 7, "889 - Rader Truck.ldr"},
+                    Expected{"4838-1-MiniVehicles.mpd", 79, 2, 27,
                              "4838 - Mini Vehicles - Carrier and Car.mpd"},
                     // "Side" is placed twice: 62 part lines + 5 more parts.
-                    Expected{"4915-1-MiniConstruction.mpd", 67, 5, 37,
+                    Expected{"4915-1-MiniConstruction.mpd", 67, 5, 38,
                              "4915 - Mini Construction - Excavator.mpd"},
                     Expected{"5935-1-IslandHopper.mpd", 203, 4, 1, "5935 - Island Hopper.ldr"},
                     Expected{"1621-1-LunarMPVVehicle.mpd", 104, 12, 1,
