@@ -494,12 +494,13 @@ class Flattener {
       if (p.built_in > 0) number[p.built_in] = 0;
     }
     for (const PlacedPart& p : model_.aside) number[p.step] = 0;
+    std::map<int, std::string> rotstep;
+    for (const Step& st : model_.steps) rotstep[st.number] = st.rotstep;
     std::vector<Step> steps;
-    for (const Step& st : model_.steps)
-      if (auto it = number.find(st.number); it != number.end()) {
-        it->second = int(steps.size()) + 1;
-        steps.push_back({it->second, 0, st.rotstep, 0});
-      }
+    for (auto& [old, now] : number) {
+      now = int(steps.size()) + 1;
+      steps.push_back({now, 0, rotstep[old], 0});
+    }
     for (PlacedPart& p : model_.parts) {
       ++steps[size_t((p.step = number[p.step]) - 1)].parts;
       if (p.built_in == 0) continue;
