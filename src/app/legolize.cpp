@@ -809,7 +809,7 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
     }
     rep.pieces.push_back(
         {.piece = int(k) + 1,
-         .grounded = r.lift == 0,
+         .grounded = r.grounded(),
          .lift = r.lift,
          .objects = r.objects,
          .voxels = r.voxels,

@@ -65,6 +65,15 @@ struct Objects {
   };
   std::vector<int> label;  // per voxel, its object; -1 where empty
   std::vector<Object> list;
+
+  // The objects lowest first, then in scan order.
+  std::vector<size_t> by_lowest() const {
+    std::vector<size_t> order(list.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t p, size_t q) { return list[p].lowest < list[q].lowest; });
+    return order;
+  }
 };
 
 Objects label_objects(const Target& t) {
@@ -109,12 +118,7 @@ std::vector<Piece> split_pieces(const Target& t) {
   bool any_grounded = false;
   for (const auto& o : objects) any_grounded = any_grounded || o.lowest == 0;
   if (any_grounded) pieces.push_back({Target(t.width, t.height, t.depth), 0, 0, 0});
-  std::vector<size_t> order(objects.size());
-  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](size_t p, size_t q) {
-    return objects[p].lowest < objects[q].lowest;  // then by first voxel: the scan order
-  });
-  for (size_t k : order) {
+  for (size_t k : labelled.by_lowest()) {
     const auto& o = objects[k];
     if (o.lowest == 0) {
       piece_of[k] = 0;
@@ -138,16 +142,11 @@ std::vector<Piece> split_pieces(const Target& t) {
 FloatingSupports stand_floating_objects(Target& t, int max_columns) {
   FloatingSupports out;
   const Objects labelled = label_objects(t);
-  std::vector<size_t> order(labelled.list.size());
-  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](size_t p, size_t q) {
-    return labelled.list[p].lowest < labelled.list[q].lowest;
-  });
   std::vector<std::vector<size_t>> voxels_of(labelled.list.size());
   for (size_t i = 0; i < t.color.size(); ++i)
     if (labelled.label[i] >= 0) voxels_of[size_t(labelled.label[i])].push_back(i);
   const size_t plan = size_t(t.width) * size_t(t.depth);
-  for (size_t id : order) {
+  for (size_t id : labelled.by_lowest()) {
     if (labelled.list[id].lowest == 0) continue;
     // Per cell of the plan the object covers: its lowest voxel there; and its mass centre.
     std::vector<int> bottom(plan, -1);

@@ -84,14 +84,12 @@ Transform brick_transform(const Brick& brick, const std::array<int, 3>& origin_l
 
 namespace {
 
-// What a builder reads where the supports begin (Brick::support): those of the first step stand
-// on the ground, the others on the model (under what the mesh leaves in the air).
-std::string supports_words(bool first_step) {
-  return first_step ? "Supports: columns that are not the model's, which it stands on. Build them "
-                      "first; the model needs them to stand"
-                    : "Supports: columns that are not the model's, standing on it under what it "
-                      "holds in the air; the model needs them to stand";
-}
+// What a builder reads where the supports begin (Brick::support). Their steps say when: those on
+// the ground come first, those on the model (under what the mesh leaves in the air) with the layer
+// they stand on.
+constexpr const char* kSupportsWords =
+    "Supports: columns that are not the model's, which it stands on; the model needs them to "
+    "stand";
 
 // The bricks of one assembly by build step, `0 STEP` after each step. Supports are a group of
 // their own (LeoCAD's, which other editors keep as comments), so that they can be seen and
@@ -111,8 +109,7 @@ std::string bricks_by_step(const Assembly& assembly, bool steps) {
     if (steps && k > 0 && assembly.bricks[order[k - 1]].source.step != b.source.step)
       out += "0 STEP\n";
     if (b.support && !in_supports) {
-      out += fmt::format("0 // {}.\n0 !LEOCAD GROUP BEGIN Supports\n",
-                         supports_words(b.source.step == assembly.bricks[order[0]].source.step));
+      out += fmt::format("0 // {}.\n0 !LEOCAD GROUP BEGIN Supports\n", kSupportsWords);
       in_supports = true;
     }
     out += brick_line(b, assembly.origin_ldu);
@@ -148,7 +145,7 @@ std::string mpd_model(const Assembly& assembly, const std::string& name, const s
     ++k;
     names.push_back(k == 1 && supports_only(bricks) ? fmt::format("{}-supports.ldr", stem)
                                                     : fmt::format("{}-step-{:03}.ldr", stem, k));
-    if (supports_only(bricks)) out += fmt::format("0 // {}.\n", supports_words(k == 1));
+    if (supports_only(bricks)) out += fmt::format("0 // {}.\n", kSupportsWords);
     out += "1 16 0 0 0 1 0 0 0 1 0 0 0 1 " + names.back() + "\n0 STEP\n";
   }
   out += extra + "0 NOFILE\n";

@@ -292,6 +292,12 @@ TEST(LegolizeMeshes, AnObjectInTheAirStandsOnColumnsAndBrickcheckAgrees) {
   }
   EXPECT_GT(support_steps, 1);
   EXPECT_EQ(in_support_steps, r["supports"]["bricks"].get<int>());
+  // Every supports' step tells the builder the same: its own step says when to build it.
+  std::ifstream written(mpd);
+  std::set<std::string> said;
+  for (std::string line; std::getline(written, line);)
+    if (line.rfind("0 // Supports:", 0) == 0) said.insert(line);
+  EXPECT_EQ(said.size(), 1u);
   // A block above the cube: its columns rest on the cube, so they come with the layers they
   // stand on, not first.
   const fs::path over = scratch("over.obj"), over_mpd = scratch("over.mpd");
