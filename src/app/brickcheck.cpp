@@ -92,7 +92,14 @@ void write_instructions(const report::Audit& audit, const fs::path& dir,
         bs.certified = s.certified;
         bs.sub_assembly_judged = s.apart;
         bs.why = s.why;
+        for (int b : s.culprits)
+          if (size_t(b) < audit.conversion.brick_part.size())
+            bs.falling.push_back(audit.conversion.brick_part[size_t(b)]);
+        for (int c : s.carried_culprits)
+          if (size_t(c) < audit.conversion.carried_part.size())
+            bs.falling.push_back(audit.conversion.carried_part[size_t(c)]);
       }
+  report::draw_what_falls(booklet, audit.model, bodies);
   if (audit.stability.status == physics::StabilityStatus::Solved)
     booklet.cm_gf = audit.stability.cm_gf();
   booklet.verdict = "The finished model: " + report::render_text(audit, true);

@@ -595,7 +595,8 @@ void write_outputs(Run& run, const std::vector<const Assembly*>& assemblies,
   ldraw::write_files_atomically(files);
   run.written = true;
   if (o.instructions.empty()) return;
-  report::Booklet booklet = report::booklet_of(ldraw::read_file(o.output));
+  const ldraw::Model written = ldraw::read_file(o.output);
+  report::Booklet booklet = report::booklet_of(written);
   for (report::BookletStep& bs : booklet.steps)
     if (bs.number >= 1 && bs.number <= int(rep.steps.size())) {
       const auto& st = rep.steps[size_t(bs.number - 1)];
@@ -608,7 +609,16 @@ void write_outputs(Run& run, const std::vector<const Assembly*>& assemblies,
       bs.stands = st.stands;
       bs.certified = st.certified;
       bs.why = st.why;
+      // The parts it names, found in the file written by where they are.
+      for (size_t i = 0; i < written.parts.size(); ++i)
+        for (const auto& at : st.falling_at)
+          if (written.parts[i].step <= bs.number &&
+              std::abs(written.parts[i].transform.pos[0] - at[0]) < 0.5 &&
+              std::abs(written.parts[i].transform.pos[1] - at[1]) < 0.5 &&
+              std::abs(written.parts[i].transform.pos[2] - at[2]) < 0.5)
+            bs.falling.push_back(i);
     }
+  report::draw_what_falls(booklet, written);
   if (std::isfinite(rep.cm_gf_final)) booklet.cm_gf = rep.cm_gf_final;
   booklet.verdict = fmt::format("The finished model: C_M = {} ({}).", cm_words(rep.cm_gf_final),
                                 rep.stable ? "it stands" : "it does not stand");
@@ -791,11 +801,22 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
           results.size() > 1 ? fmt::format("piece {}: {}", k + 1, r.bottleneck) : r.bottleneck;
     for (size_t st = 0; st < r.order.steps.size(); ++st) {
       const layout::BuildStep& bs = r.order.steps[st];
-      rep.steps.push_back(
-          {int(rep.steps.size()) + 1, bs.new_bricks, bs.bricks,
-           bs.status == physics::StabilityStatus::Solved ? bs.cm_gf
-                                                         : -std::numeric_limits<double>::infinity(),
-           bs.analysed, bs.stands, bs.why, bs.certified, int(st) < r.order.supports_steps});
+      rep.steps.push_back({int(rep.steps.size()) + 1,
+                           bs.new_bricks,
+                           bs.bricks,
+                           bs.status == physics::StabilityStatus::Solved
+                               ? bs.cm_gf
+                               : -std::numeric_limits<double>::infinity(),
+                           bs.analysed,
+                           bs.stands,
+                           bs.why,
+                           bs.certified,
+                           int(st) < r.order.supports_steps,
+                           {}});
+      const Assembly& placed = r.la.assembly;
+      for (int b : bs.falling)
+        rep.steps.back().falling_at.push_back(
+            ldraw::brick_transform(placed.bricks[size_t(b)], placed.origin_ldu).pos);
     }
     // A piece built apart (only with --no-supports: layout/pieces.h) floats where the mesh puts
     // it, whatever it is alone: brickcheck says so of the file, and so do we.

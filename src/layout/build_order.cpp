@@ -311,18 +311,26 @@ StepAnalysis analyse_step(const Planner& p, PlannedStep planned, const BuildOrde
         shown.push_back(name(bricks[k]));
       return named_few(shown, bricks.size());
     };
-    if (s.floating > 0)
+    auto falling = [&](const std::vector<int>& bricks) {
+      for (int b : bricks)
+        if (b >= 0) s.falling.push_back(out.whole_index[size_t(b)]);
+    };
+    if (s.floating > 0) {
       s.why = names(r.connectivity.floating) +
               (s.floating == 1 ? " reaches no ground" : " reach no ground");
-    else if (r.status == physics::StabilityStatus::NoEquilibrium && !r.unbalanced.empty())
+      falling(r.connectivity.floating);
+    } else if (r.status == physics::StabilityStatus::NoEquilibrium && !r.unbalanced.empty()) {
       s.why = names(r.unbalanced) + ": no forces hold it up (it tips or hangs)";
-    else if (r.status != physics::StabilityStatus::Solved)
+      falling(r.unbalanced);
+    } else if (r.status != physics::StabilityStatus::Solved) {
       s.why = physics::to_string(r.status);
-    else if (!r.weakest.empty())
+    } else if (!r.weakest.empty()) {
       s.why = fmt::format("C_M {:.3f} gf at {} holding {}", s.cm_gf, name(r.weakest.front().lower),
                           name(r.weakest.front().upper));
-    else
+      falling({r.weakest.front().lower, r.weakest.front().upper});
+    } else {
       s.why = fmt::format("C_M {:.3f} gf", s.cm_gf);
+    }
   }
   out.fresh = std::move(fresh);
   return out;
@@ -521,7 +529,7 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
   return out;
 }
 
-std::vector<int> apply_build_order(Assembly& assembly, const BuildOrder& order) {
+std::vector<int> apply_build_order(Assembly& assembly, BuildOrder& order) {
   const int n = int(assembly.bricks.size());
   std::vector<int> perm(static_cast<size_t>(n));
   std::iota(perm.begin(), perm.end(), 0);
@@ -539,6 +547,8 @@ std::vector<int> apply_build_order(Assembly& assembly, const BuildOrder& order) 
   assembly.bricks = std::move(bricks);
   for (ExternalLoad& load : assembly.loads)
     if (load.brick >= 0) load.brick = new_index[size_t(load.brick)];
+  for (BuildStep& step : order.steps)
+    for (int& b : step.falling) b = new_index[size_t(b)];
   return perm;
 }
 

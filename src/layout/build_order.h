@@ -46,6 +46,9 @@ struct BuildStep {
   bool analysed = false;
   bool stands = false;  // when analysed
   std::string why;      // when it does not stand: what holds it back
+  // When it does not stand: its bricks (of the assembly) that float, else those no forces
+  // balance, else the two its weakest contact joins.
+  std::vector<int> falling;
 };
 
 struct BuildOrder {
@@ -75,8 +78,9 @@ struct BuildOrder {
 // again.
 BuildOrder plan_build_order(const Assembly& assembly, const BuildOrderOptions& options);
 
-// The assembly's bricks with Brick::source.step from the order, sorted by step (stably); the
-// permutation (new index -> old index) lets callers move what refers to bricks by index.
-std::vector<int> apply_build_order(Assembly& assembly, const BuildOrder& order);
+// The assembly's bricks with Brick::source.step from the order, sorted by step (stably), and the
+// steps' falling bricks renumbered with them; the permutation (new index -> old index) lets
+// callers move what else refers to bricks by index.
+std::vector<int> apply_build_order(Assembly& assembly, BuildOrder& order);
 
 }  // namespace lego::layout

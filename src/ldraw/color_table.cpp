@@ -1,5 +1,7 @@
 #include "ldraw/color_table.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 #include <charconv>
 #include <fstream>
@@ -59,6 +61,12 @@ bool ColorTable::add_definition(std::string_view meta_line) {
       if (!rgb) return false;
       color.rgb = *rgb;
       have_value = true;
+    } else if (words[i] == "ALPHA") {
+      try {
+        color.alpha = std::clamp(std::stoi(words[i + 1]), 0, 255);
+      } catch (const std::exception&) {
+        return false;
+      }
     } else if (words[i] == "EDGE") {
       // EDGE may name another colour code instead of an RGB value.
       if (auto rgb = parse_hex_rgb(words[i + 1]))

@@ -18,6 +18,7 @@ struct Color {
   std::string name;
   unsigned rgb = 0;
   unsigned edge_rgb = 0;
+  int alpha = 255;  // ALPHA: below 255 a transparent colour
 };
 
 // An LDraw colour table built from `0 !COLOUR` lines (LDConfig.ldr or a model's own).

@@ -181,10 +181,14 @@ constexpr const char* kHighlight = "#FFFF00FF";
 // returns which pictures exist, and a note when some do not.
 struct Pictures {
   std::map<int, std::string> step;                          // step -> file name in the folder
+  std::map<int, std::string> falls;                         // step -> its picture of what falls
   std::map<std::pair<std::string, int>, std::string> part;  // (part, colour) -> file name
   std::string cover;
   std::string note;
 };
+
+// LeoCAD's look for pictures that show one step's parts and nothing of the steps before.
+constexpr const char* kNothingBefore = "--no-highlight --fade-steps --fade-steps-color '#00FFFFFF'";
 
 // A part's picture beside a step's parts list.
 constexpr int kPartWidth = 160, kPartHeight = 120;
@@ -257,12 +261,15 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& lib
                : 0;
   };
   const int last = std::max<int>(1, int(booklet.steps.size()));
-  enum class Look { Steps, Whole, Alone };
+  // Steps: the booklet's steps, new parts highlighted; Whole: the cover; Alone: each step's
+  // parts without what came before; Falls: each picture of what falls, as drawn.
+  enum class Look { Steps, Whole, Alone, Falls };
   auto leocad = [&](const fs::path& file, const std::string& image, int from, int to, Look look) {
     const bool alone = look == Look::Alone;
-    // The steps are seen by the booklet's camera, each framed; the rest from the cover's
-    // direction, whole.
-    const std::string camera = look == Look::Steps   ? fmt::format("-c {}", kStepCamera)
+    // The steps and what falls are seen by the booklet's camera, each framed; the cover by its
+    // own; the parts from the cover's direction, whole.
+    const std::string camera = look == Look::Steps || look == Look::Falls
+                                   ? fmt::format("-c {}", kStepCamera)
                                : look == Look::Whole ? fmt::format("-c {}", kCoverCamera)
                                                      : std::string("--camera-angles 30 45");
     const std::string command = fmt::format(
@@ -272,8 +279,9 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& lib
         alone ? kPartHeight : kHeight, from, to, camera,
         look == Look::Steps
             ? fmt::format("--highlight --highlight-color {} --fade-steps", shell_quote(kHighlight))
-        : alone ? "--no-highlight --fade-steps --fade-steps-color '#00FFFFFF' --line-width 0"
-                : "--no-highlight --no-fade-steps",
+        : alone               ? kNothingBefore + std::string(" --line-width 0")
+        : look == Look::Falls ? std::string(kNothingBefore)
+                              : std::string("--no-highlight --no-fade-steps"),
         shell_quote(fs::absolute(file).string()), shell_quote((scratch / "leocad.log").string()));
     // A renderer that hangs (no X server after all) must not hang the tool.
     return stop::run_command(command, kRenderSeconds) == 0;
@@ -282,6 +290,13 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& lib
   const bool steps_ok = leocad(shown, "step.png", 1, last, Look::Steps);
   if (progress) progress("rendering the cover");
   const bool cover_ok = leocad(shown, "cover.png", last, last, Look::Whole);
+  if (!booklet.falls_steps.empty()) {
+    if (progress)
+      progress(fmt::format("rendering what falls in {} steps", booklet.falls_steps.size()));
+    ldraw::write_file_atomically(scratch / "falls.ldr",
+                                 with_embedded("falls.ldr", booklet.falls, booklet.embedded));
+    leocad(scratch / "falls.ldr", "falls.png", 1, int(booklet.falls_steps.size()), Look::Falls);
+  }
   const auto kinds = part_kinds(booklet);
   if (!kinds.empty()) {
     if (progress) progress(fmt::format("rendering {} kinds of part", kinds.size()));
@@ -290,7 +305,8 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& lib
   }
   // Which picture of a LeoCAD run `name` is: its number, or 0 for `single` (a run of one step
   // renders to the name given, of several to the name with the step's number).
-  static const std::regex step_numbered(R"(step(\d+)\.png)"), part_numbered(R"(part(\d+)\.png)");
+  static const std::regex step_numbered(R"(step(\d+)\.png)"), part_numbered(R"(part(\d+)\.png)"),
+      falls_numbered(R"(falls(\d+)\.png)");
   auto rendered = [](const std::string& name, const std::regex& numbered,
                      const char* single) -> std::optional<int> {
     std::smatch m;
@@ -306,6 +322,13 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& lib
       const std::string target = fmt::format("part-{:03}.png", index + 1);
       fs::rename(e.path(), dir / target, ec);
       if (!ec) out.part[kinds[index]] = target;
+    } else if (const auto k = rendered(name, falls_numbered, "falls.png")) {
+      const size_t index = *k == 0 ? 0 : size_t(*k) - 1;
+      if (index >= booklet.falls_steps.size()) continue;
+      const int step = booklet.falls_steps[index];
+      const std::string target = fmt::format("falls-{:03}.png", step);
+      fs::rename(e.path(), dir / target, ec);
+      if (!ec) out.falls[step] = target;
     } else if (const auto n = rendered(name, step_numbered, "step.png")) {
       const int step = number_of(*n == 0 ? last : *n);
       if (step <= 0) continue;
@@ -321,9 +344,11 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& lib
   int missing = 0;
   for (const BookletStep& s : booklet.steps) missing += !out.step.count(s.number);
   missing += int(kinds.size() - out.part.size()) + (out.cover.empty() ? 1 : 0);
+  missing += int(booklet.falls_steps.size() - out.falls.size());
   if (missing > 0)
     out.note = fmt::format("LeoCAD did not render {} of {} pictures{}.", missing,
-                           booklet.steps.size() + 1 + kinds.size(), steps_ok ? "" : " (it failed)");
+                           booklet.steps.size() + 1 + kinds.size() + booklet.falls_steps.size(),
+                           steps_ok ? "" : " (it failed)");
   fs::remove_all(scratch, ec);
   return out;
 }
@@ -433,6 +458,12 @@ td.count {{ font-weight: bold; text-align: right; }}
                          *s.stands ? "it stands" : "it does not stand");
       if (!*s.stands && !s.why.empty())
         out += fmt::format("<p class=\"falls\">Hold it: {}</p>\n", html_escape(s.why));
+      if (auto it = pictures.falls.find(s.number); it != pictures.falls.end())
+        out += fmt::format(
+            "<figure class=\"falls\"><img class=\"picture\" src=\"{}\" alt=\"what falls in "
+            "step {}\" width=\"{}\" height=\"{}\"><figcaption>In red, what falls, tips or holds "
+            "least; in clear, the {} so far.</figcaption></figure>\n",
+            it->second, s.number, kWidth, kHeight, s.aside ? "sub-assembly" : "model");
     }
     out += "</section>\n";
   }
@@ -538,7 +569,54 @@ std::string drawn_by_step(const ldraw::Model& model,
   return out + step_camera(frames) + camera_lines(kCoverCamera, {frame_step(model_box, model_box)});
 }
 
+// What falls is drawn in red, what stands around it in clear, through which a part inside shows.
+constexpr int kFallingColor = 4;  // Red
+constexpr int kAroundColor = 47;  // Trans_Clear
+
 }  // namespace
+
+void draw_what_falls(Booklet& booklet, const ldraw::Model& model,
+                     const std::vector<std::optional<Box>>& bodies) {
+  booklet.falls.clear();
+  booklet.falls_steps.clear();
+  auto box_of = [&](size_t i) {
+    return part_box(model.parts[i], i < bodies.size() ? bodies[i] : std::nullopt);
+  };
+  std::string out = "0 What falls\n0 Name: falls.ldr\n0 Author: legolization\n\n";
+  std::vector<Frame> frames;
+  std::vector<char> falls(model.parts.size(), 0);
+  for (const BookletStep& s : booklet.steps) {
+    if (s.falling.empty()) continue;
+    std::fill(falls.begin(), falls.end(), 0);
+    for (size_t i : s.falling)
+      if (i < falls.size()) falls[i] = 1;
+    // A step judged on the table shows its sub-assembly so far; any other, the model in place.
+    int apart = 0;
+    if (s.sub_assembly_judged)
+      for (const ldraw::PlacedPart& p : model.parts)
+        if (p.built_in == s.number) apart = p.apart_from;
+    FrameBox around;
+    bool any = false;
+    std::string lines;
+    for (size_t i = 0; i < model.parts.size(); ++i) {
+      const ldraw::PlacedPart& p = model.parts[i];
+      const bool there = apart > 0
+                             ? p.apart_from == apart && p.built_in > 0 && p.built_in <= s.number
+                             : p.step <= s.number;
+      if (!there && !falls[i]) continue;
+      lines += ldraw::part_line(falls[i] ? kFallingColor : kAroundColor, p.transform, p.reference);
+      around.add(box_of(i));
+      any = any || falls[i];
+    }
+    if (!any) continue;
+    out += lines + "0 STEP\n";
+    // The whole of it: where on the model the red parts are is what the builder looks for, and
+    // red shows through clear however small.
+    frames.push_back(frame_step(around, around));
+    booklet.falls_steps.push_back(s.number);
+  }
+  if (!booklet.falls_steps.empty()) booklet.falls = out + step_camera(frames);
+}
 
 Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Box>>& bodies) {
   Booklet b;

@@ -28,6 +28,9 @@ struct BookletStep {
   std::string note;        // a word for the builder on this step (legolize: the supports)
   bool aside = false;      // it builds a sub-assembly apart (ldraw::Step::aside), not the model
   bool sub_assembly_judged = false;  // cm_gf and stands are the sub-assembly's, on the table
+  // When it does not stand: the parts (indices into the model's parts) that float, tip or hold
+  // least, drawn apart in a picture of what falls (draw_what_falls).
+  std::vector<size_t> falling;
 };
 
 struct Booklet {
@@ -44,6 +47,11 @@ struct Booklet {
   std::string drawn;
   // The parts the model embeds (a packed MPD's), as FILE blocks a renderer reads after `drawn`.
   std::string embedded;
+  // What falls (draw_what_falls): an LDraw file with a STEP per step of `falls_steps` (their
+  // numbers) that names falling parts, drawing them in red and the model so far in clear, framed
+  // by LeoCAD's camera kStepCamera on them.
+  std::string falls;
+  std::vector<int> falls_steps;
 };
 
 // The parts of a model read from LDraw, step by step (submodels flattened; a sub-assembly's
@@ -52,6 +60,12 @@ struct Booklet {
 // `bodies`, when given, is per part of the model its body in its own frame where known: the
 // pictures frame each step on it (step_camera.h).
 Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Box>>& bodies = {});
+
+// The pictures of what falls: for each step whose `falling` parts are known, the model as that
+// step leaves it (or the sub-assembly, for a step judged on the table) in clear and those parts
+// in red, seen through it where they are inside. Call once the steps' analyses are filled in.
+void draw_what_falls(Booklet& booklet, const ldraw::Model& model,
+                     const std::vector<std::optional<Box>>& bodies = {});
 
 // Progress on the way (stderr lines for a person watching).
 using BookletProgress = std::function<void(const std::string&)>;

@@ -133,8 +133,10 @@ Palette Palette::paper(const ldraw::ColorTable& table) {
 
 Palette Palette::all(const ldraw::ColorTable& table) {
   std::vector<int> codes;
+  // Solid colours only: a sculpture's shell is not glass (the table has Trans_Clear for booklets).
   for (const auto& [code, c] : table.colors())
-    if (code != ldraw::kMainColor && code != ldraw::kEdgeColor && code < ldraw::kDirectColorBase)
+    if (code != ldraw::kMainColor && code != ldraw::kEdgeColor && code < ldraw::kDirectColorBase &&
+        c.alpha == 255)
       codes.push_back(code);
   return of(codes, table);
 }

@@ -21,6 +21,7 @@
 
 #include "app/run_tool.h"
 #include "ldraw/reader.h"
+#include "mesh/image.h"
 #include "report/instructions.h"
 #include "report/step_camera.h"
 #include "test_paths.h"
@@ -298,6 +299,77 @@ TEST(BookletOf, ASubAssemblyBuiltAsideHasItsOwnPages) {
   EXPECT_NEAR(xs[2] - 40, 80 + 80, 1e-9);
   EXPECT_NE(b.drawn.find(std::string("CAMERA NAME ") + report::kStepCamera), std::string::npos);
   EXPECT_NE(b.drawn.find(std::string("CAMERA NAME ") + report::kCoverCamera), std::string::npos);
+}
+
+// A step that falls names its parts: the picture of what falls draws them in red and the model
+// so far in clear (a step judged on the table, its sub-assembly alone); steps that stand have none.
+TEST(BookletOf, WhatFallsIsDrawnInRedInTheModelSoFar) {
+  const ldraw::Model model = ldraw::read_text(
+      "0 FILE falls.mpd\n0 falls\n1 14 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+      "1 1 0 -120 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+      "1 16 200 0 0 1 0 0 0 1 0 0 0 1 arm.ldr\n0 STEP\n"
+      "0 FILE arm.ldr\n0 arm\n1 2 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+      "1 15 0 -72 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n",
+      "falls.mpd");
+  ASSERT_FALSE(model.has_errors());
+  report::Booklet b = report::booklet_of(model);
+  ASSERT_EQ(b.steps.size(), 5u);  // base, floating brick, the arm's two apart, the arm in place
+  report::draw_what_falls(b, model);
+  EXPECT_TRUE(b.falls.empty()) << "no step names parts that fall";
+  b.steps[1].falling = {1};
+  b.steps[3].falling = {3};
+  b.steps[3].sub_assembly_judged = true;
+  report::draw_what_falls(b, model);
+  ASSERT_EQ(b.falls_steps, (std::vector<int>{b.steps[1].number, b.steps[3].number}));
+  // Per picture: colour and x of each part drawn.
+  std::vector<std::vector<std::pair<int, double>>> pictures(1);
+  std::istringstream lines(b.falls);
+  for (std::string line; std::getline(lines, line);) {
+    if (line == "0 STEP") pictures.emplace_back();
+    if (line.rfind("1 ", 0) != 0) continue;
+    std::istringstream in(line);
+    int type = 0, color = 0;
+    double x = 0;
+    in >> type >> color >> x;
+    pictures.back().emplace_back(color, x);
+  }
+  ASSERT_EQ(pictures.size(), 3u);  // two pictures and what follows the last STEP
+  // The floating brick in red over the base in clear.
+  EXPECT_EQ(pictures[0], (std::vector<std::pair<int, double>>{{47, 0}, {4, 0}}));
+  // The arm's top brick in red over its first, alone: nothing of the model in place.
+  EXPECT_EQ(pictures[1], (std::vector<std::pair<int, double>>{{47, 200}, {4, 200}}));
+  EXPECT_NE(b.falls.find(std::string("CAMERA NAME ") + report::kStepCamera), std::string::npos);
+}
+
+// brickcheck --steps --instructions: the step that falls has a picture of what falls, with its
+// part in red where the model has none; the steps that stand have none.
+TEST_F(Booklet, AStepThatFallsShowsItsPartInRed) {
+  SKIP_WITHOUT_SHARED();
+  if (!test::have("leocad") || !test::have("xvfb-run"))
+    GTEST_SKIP() << "leocad or xvfb-run is not installed";
+  const fs::path model = dir_ / "float.ldr", book = dir_ / "float-book";
+  std::ofstream(model) << "0 float\n1 14 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                          "1 1 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                          "1 1 0 -144 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n";
+  const auto run = run_tool(
+      "brickcheck", {"--steps", "--ldraw-dir", (test::shared_dir() / "ldraw-library").string(),
+                     "--instructions", book.string(), model.string()});
+  const std::string html = text_of(book / "index.html");
+  ASSERT_FALSE(html.empty()) << run.out << run.err;
+  EXPECT_NE(html.find("src=\"falls-003.png\""), std::string::npos) << run.err;
+  EXPECT_EQ(html.find("src=\"falls-001.png\""), std::string::npos);
+  EXPECT_EQ(html.find("src=\"falls-002.png\""), std::string::npos);
+  auto reds = [](const fs::path& png) {
+    mesh::Texture image;
+    std::string why;
+    if (!mesh::load_image(png, image, why)) return -1;
+    int n = 0;
+    for (size_t i = 0; i + 2 < image.rgb.size(); i += 3)
+      n += image.rgb[i] > 110 && image.rgb[i + 1] < 50 && image.rgb[i + 2] < 50;
+    return n;
+  };
+  EXPECT_GT(reds(book / "falls-003.png"), 500) << "the floating brick in red";
+  EXPECT_EQ(reds(book / "step-003.png"), 0) << "yellow, blue and the highlight are not red";
 }
 
 // Each step's picture is framed on the model so far, and on a step's few new parts where they are

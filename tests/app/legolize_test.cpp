@@ -14,6 +14,8 @@
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+
+#include <fmt/format.h>
 #include "app/run_tool.h"
 
 #include "ldraw/reader.h"
@@ -729,6 +731,33 @@ TEST(Legolize, StepsThatFallAreNamedWithWhy) {
       EXPECT_NE(run.out.find("step " + std::to_string(step["step"].get<int>()) + " falls: "),
                 std::string::npos);
     }
+  EXPECT_GT(falling, 0);
+}
+
+// The booklet of steps that fall shows each one's weakest bricks in a picture of what falls, found
+// in the written file by where they are.
+TEST(Legolize, TheBookletShowsWhatFallsInEachStepThatFalls) {
+  if (!test::have("leocad") || !test::have("xvfb-run"))
+    GTEST_SKIP() << "leocad or xvfb-run is not installed";
+  auto out = scratch("mushroom-book.ldr"), report = scratch("mushroom-book.json");
+  const fs::path book = scratch("mushroom-book");
+  fs::remove_all(book);
+  auto run = run_tool("legolize", {mushroom().string(), "--scale", "1", "--solid", "--no-refine",
+                                   "--min-cm", "71.5", "-o", out.string(), "--report",
+                                   report.string(), "--instructions", book.string()});
+  EXPECT_EQ(run.exit_code, 1) << run.err << run.out;
+  const auto r = read_json(report);
+  std::ifstream page(book / "index.html");
+  const std::string html(std::istreambuf_iterator<char>(page), {});
+  ASSERT_FALSE(html.empty()) << run.err;
+  int falling = 0;
+  for (const auto& step : r["steps"]) {
+    const std::string picture = fmt::format("src=\"falls-{:03}.png\"", step["step"].get<int>());
+    const bool stands = step["stands"].get<bool>();
+    falling += !stands;
+    EXPECT_EQ(html.find(picture) != std::string::npos, !stands) << step;
+    EXPECT_EQ(fs::exists(book / picture.substr(5, 13)), !stands) << step;
+  }
   EXPECT_GT(falling, 0);
 }
 

@@ -287,6 +287,12 @@ TEST(Palette, NearestLDrawColours) {
             14);  // only what it has: the lighter one
   EXPECT_THROW(Palette::of({4, 9999}, table), InputError);
   EXPECT_GT(Palette::all(table).codes().size(), 30u);
+  // The table's Trans_Clear (booklets draw with it) is no colour a sculpture is built in.
+  ASSERT_NE(table.find(47), nullptr);
+  EXPECT_LT(table.find(47)->alpha, 255);
+  const auto all = Palette::all(table).codes();
+  EXPECT_EQ(std::count(all.begin(), all.end(), 47), 0);
+  EXPECT_EQ(Palette::all(table).nearest({1, 1, 1}), 15);
 }
 
 }  // namespace
