@@ -15,6 +15,7 @@
 #include <fstream>
 #include <optional>
 #include <regex>
+#include <set>
 
 #include "core/brick_catalog.h"
 #include "core/error.h"
@@ -435,7 +436,7 @@ td.count {{ font-weight: bold; text-align: right; }}
     out += fmt::format(
         "<section class=\"step{2}\" id=\"step-{0}\" data-step=\"{0}\">\n<h2>Step {0} "
         "<small>of {1}{3}</small></h2>\n",
-        s.number, b.steps.size(), s.aside ? " aside" : "", s.aside ? ", built aside" : "");
+        s.number, b.steps.back().number, s.aside ? " aside" : "", s.aside ? ", built aside" : "");
     if (auto it = pictures.step.find(s.number); it != pictures.step.end())
       out += fmt::format(
           "<img class=\"picture\" src=\"{}\" alt=\"the model after step {}, new "
@@ -453,7 +454,9 @@ td.count {{ font-weight: bold; text-align: right; }}
     if (!s.note.empty()) out += fmt::format("<p class=\"note\">{}</p>\n", html_escape(s.note));
     if (s.stands && (!s.aside || s.sub_assembly_judged)) {
       out += fmt::format("<p class=\"cm\">{}: C_M {} {} ({}).</p>\n",
-                         s.aside ? "The sub-assembly so far, on the table" : "The model so far",
+                         s.aside                 ? "The sub-assembly so far, on the table"
+                         : s.sub_assembly_judged ? "The model so far, on the table"
+                                                 : "The model so far",
                          s.certified ? "&ge;" : "=", cm_text(s.cm_gf),
                          *s.stands ? "it stands" : "it does not stand");
       if (!*s.stands && !s.why.empty())
@@ -517,6 +520,26 @@ void check_booklet_folder(const fs::path& dir) {
 
 namespace {
 
+// The sub-assemblies (by PlacedPart::apart_from) built where nothing is in place yet or built
+// apart before them, whose parts are therefore drawn and built in place (a wrapper model that
+// places one submodel with steps, a house begun with its ground floor): beside an empty model
+// they would be a model built aside from nothing, and set in place on nothing.
+std::set<int> built_in_place(const ldraw::Model& model) {
+  std::map<int, int> placed_at;  // sub-assembly -> the step that places it
+  for (const ldraw::PlacedPart& p : model.parts)
+    if (p.built_in > 0) placed_at[p.apart_from] = p.step;
+  std::set<int> out;
+  for (const auto& [first, placing] : placed_at) {
+    const bool alone =
+        std::none_of(model.parts.begin(), model.parts.end(), [&](const ldraw::PlacedPart& q) {
+          if (q.built_in > 0) return q.apart_from != first && q.built_in < first;
+          return q.step < placing;
+        });
+    if (alone) out.insert(first);
+  }
+  return out;
+}
+
 // The parts flattened, a step of the file per step of the model (submodels' own steps; steps that
 // place nothing are none), and the cameras that frame each step and the cover (step_camera.h). A
 // sub-assembly built aside (ldraw::Model::aside) is drawn beside the model, clear of it, each of
@@ -532,13 +555,15 @@ std::string drawn_by_step(const ldraw::Model& model,
   // What is built apart: the parts a buffer sets aside, and those of sub-assemblies, drawn where
   // they are built.
   std::vector<std::pair<int, const ldraw::PlacedPart*>> apart;
+  const std::set<int> in_place = built_in_place(model);
   for (size_t i = 0; i < model.parts.size(); ++i) {
     const ldraw::PlacedPart& p = model.parts[i];
-    Drawn& d = steps[p.step];
+    const bool here = p.built_in > 0 && in_place.count(p.apart_from);
+    Drawn& d = steps[here ? p.built_in : p.step];
     d.lines += ldraw::part_line(p.color, p.transform, p.reference);
     d.box.add(part_box(p, i < bodies.size() ? bodies[i] : std::nullopt));
     model_box.add(d.box);
-    if (p.built_in > 0) apart.emplace_back(p.built_in, &p);
+    if (p.built_in > 0 && !here) apart.emplace_back(p.built_in, &p);
   }
   for (const ldraw::PlacedPart& p : model.aside) apart.emplace_back(p.step, &p);
   for (const auto& [step, p] : apart) aside_box.add(part_box(*p));
@@ -639,8 +664,14 @@ Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Bo
     }
   };
   // A part built apart is listed where it is built; where it is set in place (a sub-assembly
-  // placed whole, or its ghost) the step shows it, and lists it not.
+  // placed whole, or its ghost) the step shows it, and lists it not. A sub-assembly built in place
+  // (built_in_place) is a part of the model from its steps on, set in place by no step.
+  const std::set<int> in_place = built_in_place(model);
   for (const ldraw::PlacedPart& p : model.parts) {
+    if (p.built_in > 0 && in_place.count(p.apart_from)) {
+      count(p, p.built_in);
+      continue;
+    }
     if (p.ghost || p.built_in > 0) {
       by_step[p.step];
       ++set_in_place[p.step];

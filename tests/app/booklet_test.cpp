@@ -301,6 +301,56 @@ TEST(BookletOf, ASubAssemblyBuiltAsideHasItsOwnPages) {
   EXPECT_NE(b.drawn.find(std::string("CAMERA NAME ") + report::kCoverCamera), std::string::npos);
 }
 
+// A sub-assembly built where nothing is in place yet (a wrapper model's one submodel, the first
+// floor of a house) is built in place: its pages are the model's, drawn where it stands, and no
+// page sets it in place; one built after it is built aside as before.
+TEST(BookletOf, TheFirstSubAssemblyIsBuiltInPlace) {
+  const std::string car =
+      "0 FILE car.ldr\n0 car\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+      "1 15 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n";
+  const ldraw::Model wrapper = ldraw::read_text(
+      "0 FILE main.ldr\n0 main\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 car.ldr\n0 STEP\n" + car, "w.mpd");
+  ASSERT_FALSE(wrapper.has_errors());
+  const report::Booklet w = report::booklet_of(wrapper);
+  ASSERT_EQ(w.steps.size(), 2u);  // the car's two; the step that places it adds nothing
+  for (const auto& st : w.steps) {
+    EXPECT_FALSE(st.aside) << st.number;
+    EXPECT_TRUE(st.note.empty()) << st.note;
+    ASSERT_EQ(st.parts.size(), 1u);
+  }
+  std::vector<double> xs;
+  std::istringstream lines(w.drawn);
+  int steps = 0;
+  for (std::string line; std::getline(lines, line);) {
+    steps += line == "0 STEP";
+    if (line.rfind("1 ", 0) != 0) continue;
+    std::istringstream in(line);
+    int type = 0, color = 0;
+    double x = 0;
+    in >> type >> color >> x;
+    xs.push_back(x);
+  }
+  EXPECT_EQ(steps, 2);
+  EXPECT_EQ(xs, (std::vector<double>{0, 0}));  // in place, not beside the model
+  // A second sub-assembly, after the first: built aside, and set in place with the first.
+  const ldraw::Model two = ldraw::read_text(
+      "0 FILE main.ldr\n0 main\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 car.ldr\n"
+      "1 16 100 0 0 1 0 0 0 1 0 0 0 1 trailer.ldr\n0 STEP\n" +
+          car +
+          "0 FILE trailer.ldr\n0 trailer\n1 1 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+          "1 2 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n",
+      "two.mpd");
+  ASSERT_FALSE(two.has_errors());
+  const report::Booklet t = report::booklet_of(two);
+  ASSERT_EQ(t.steps.size(), 5u);  // car 2, trailer 2, both set in place
+  EXPECT_FALSE(t.steps[0].aside);
+  EXPECT_FALSE(t.steps[1].aside);
+  EXPECT_TRUE(t.steps[2].aside);
+  EXPECT_TRUE(t.steps[3].aside);
+  EXPECT_FALSE(t.steps[4].aside);
+  EXPECT_NE(t.steps[4].note.find("Set in place"), std::string::npos);
+}
+
 // A step that falls names its parts: the picture of what falls draws them in red and the model
 // so far in clear (a step judged on the table, its sub-assembly alone); steps that stand have none.
 TEST(BookletOf, WhatFallsIsDrawnInRedInTheModelSoFar) {
