@@ -6,6 +6,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <functional>
 #include <limits>
 #include <map>
@@ -604,8 +605,11 @@ StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options,
   return s;
 }
 
-// Every step, two at a time, within --max-seconds. Each is certified from the forces of the
-// latest step certified so far; the LP decides the others, and gives the weakest step's C_M.
+// Every step, two at a time, within --max-seconds. Step k is certified from the forces of the
+// latest step before k - 1 that has them (the other worker is on k - 1): waiting for those steps
+// keeps the start, and so the report, the same whatever the timing (beginning from whichever step
+// had finished made a step's C_M a certificate's bound in one run and the LP's in another); the
+// LP decides the steps no certificate covers, and gives the weakest step's C_M.
 void audit_steps(Audit& audit, const AuditOptions& options) {
   int last = 0;
   for (const Brick& b : audit.conversion.assembly.bricks) last = std::max(last, b.source.step);
@@ -613,10 +617,13 @@ void audit_steps(Audit& audit, const AuditOptions& options) {
     last = std::max(last, c.source.step);
   std::vector<StepAudit> analysed(static_cast<size_t>(std::max(last, 0)));
   std::vector<char> done(analysed.size(), 0);
+  std::vector<std::shared_ptr<const physics::StepForces>> forces_of(analysed.size());
+  static const physics::StepForces kNoForces;  // a certificate from no forces at all
   std::atomic<int> next{0};
-  std::mutex latest_mutex;
-  auto latest = std::make_shared<const physics::StepForces>();
-  int latest_step = 0;
+  std::mutex mutex;
+  std::condition_variable finished;  // a step done, or a worker stopped
+  int done_before = 0;               // steps 0 .. done_before - 1 are all done
+  bool stopped = false;
   // The steps' budget (audit_file's): a step it runs out in is left unchecked.
   const Budget* budget = options.stability.budget;
   auto in_time = [&] { return !budget || !budget->spent(); };
@@ -624,24 +631,32 @@ void audit_steps(Audit& audit, const AuditOptions& options) {
     for (int k; in_time() && (k = next++) < last;) {
       std::shared_ptr<const physics::StepForces> from;
       {
-        const std::lock_guard lock(latest_mutex);
-        from = latest;
+        std::unique_lock lock(mutex);
+        finished.wait(lock, [&] { return stopped || done_before >= k - 1; });
+        if (stopped) return;
+        for (int j = k - 2; j >= 0 && !from; --j) from = forces_of[size_t(j)];
       }
       physics::StepForces forces;
       try {
-        analysed[size_t(k)] = audit_step(audit, k + 1, options, from.get(), &forces);
+        analysed[size_t(k)] =
+            audit_step(audit, k + 1, options, from ? from.get() : &kNoForces, &forces);
       } catch (const OutOfTime&) {
+        const std::lock_guard lock(mutex);
+        stopped = true;
+        finished.notify_all();
         return;
       }
+      const std::lock_guard lock(mutex);
       done[size_t(k)] = 1;
-      if (!forces.empty()) {
-        const std::lock_guard lock(latest_mutex);
-        if (k + 1 > latest_step) {
-          latest_step = k + 1;
-          latest = std::make_shared<const physics::StepForces>(std::move(forces));
-        }
-      }
+      if (!forces.empty())
+        forces_of[size_t(k)] = std::make_shared<const physics::StepForces>(std::move(forces));
+      while (done_before < last && done[size_t(done_before)]) ++done_before;
+      finished.notify_all();
     }
+    // Out of steps or of time: a worker waiting for this one's step must not wait for more.
+    const std::lock_guard lock(mutex);
+    if (!in_time()) stopped = true;
+    finished.notify_all();
   };
   {
     const physics::OneBlasThreadEach blas_threads(last > 1);
