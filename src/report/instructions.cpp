@@ -597,6 +597,9 @@ std::string drawn_by_step(const ldraw::Model& model,
 // What falls is drawn in red, what stands around it in clear, through which a part inside shows.
 constexpr int kFallingColor = 4;  // Red
 constexpr int kAroundColor = 47;  // Trans_Clear
+// Each picture of what falls draws the whole model so far: the first this many steps that fall
+// have one (a town's booklet would otherwise draw the town once per step), the builder's first.
+constexpr size_t kFallsPictures = 20;
 
 }  // namespace
 
@@ -612,6 +615,7 @@ void draw_what_falls(Booklet& booklet, const ldraw::Model& model,
   std::vector<char> falls(model.parts.size(), 0);
   for (const BookletStep& s : booklet.steps) {
     if (s.falling.empty()) continue;
+    if (booklet.falls_steps.size() == kFallsPictures) break;
     std::fill(falls.begin(), falls.end(), 0);
     for (size_t i : s.falling)
       if (i < falls.size()) falls[i] = 1;

@@ -61,9 +61,10 @@ struct Booklet {
 // pictures frame each step on it (step_camera.h).
 Booklet booklet_of(const ldraw::Model& model, const std::vector<std::optional<Box>>& bodies = {});
 
-// The pictures of what falls: for each step whose `falling` parts are known, the model as that
-// step leaves it (or the sub-assembly, for a step judged on the table) in clear and those parts
-// in red, seen through it where they are inside. Call once the steps' analyses are filled in.
+// The pictures of what falls: for each step whose `falling` parts are known (the first 20), the
+// model as that step leaves it (or the sub-assembly, for a step judged on the table) in clear and
+// those parts in red, seen through it where they are inside. Call once the steps' analyses are
+// filled in.
 void draw_what_falls(Booklet& booklet, const ldraw::Model& model,
                      const std::vector<std::optional<Box>>& bodies = {});
 

@@ -391,6 +391,21 @@ TEST(BookletOf, WhatFallsIsDrawnInRedInTheModelSoFar) {
   EXPECT_NE(b.falls.find(std::string("CAMERA NAME ") + report::kStepCamera), std::string::npos);
 }
 
+// Each picture of what falls draws the model so far: the first 20 steps that fall have one.
+TEST(BookletOf, TheFirstTwentyStepsThatFallAreDrawn) {
+  std::string text = "0 tower\n";
+  for (int k = 0; k < 25; ++k)
+    text += fmt::format("1 4 0 {} 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n", -24 * (k + 1));
+  const ldraw::Model model = ldraw::read_text(text, "tower.ldr");
+  report::Booklet b = report::booklet_of(model);
+  ASSERT_EQ(b.steps.size(), 25u);
+  for (size_t k = 0; k < b.steps.size(); ++k) b.steps[k].falling = {k};
+  report::draw_what_falls(b, model);
+  ASSERT_EQ(b.falls_steps.size(), 20u);
+  EXPECT_EQ(b.falls_steps.front(), 1);
+  EXPECT_EQ(b.falls_steps.back(), 20);
+}
+
 // brickcheck --steps --instructions: the step that falls has a picture of what falls, with its
 // part in red where the model has none; the steps that stand have none.
 TEST_F(Booklet, AStepThatFallsShowsItsPartInRed) {
