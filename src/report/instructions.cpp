@@ -520,6 +520,12 @@ void check_booklet_folder(const fs::path& dir) {
 
 namespace {
 
+// The model's part i where it is placed, by its body where `bodies` knows it (step_camera.h).
+FrameBox box_of(const ldraw::Model& model, const std::vector<std::optional<Box>>& bodies,
+                size_t i) {
+  return part_box(model.parts[i], i < bodies.size() ? bodies[i] : std::nullopt);
+}
+
 // The sub-assemblies (by PlacedPart::apart_from) built where nothing is in place yet or built
 // apart before them, whose parts are therefore drawn and built in place (a wrapper model that
 // places one submodel with steps, a house begun with its ground floor): beside an empty model
@@ -561,7 +567,7 @@ std::string drawn_by_step(const ldraw::Model& model,
     const bool here = p.built_in > 0 && in_place.count(p.apart_from);
     Drawn& d = steps[here ? p.built_in : p.step];
     d.lines += ldraw::part_line(p.color, p.transform, p.reference);
-    d.box.add(part_box(p, i < bodies.size() ? bodies[i] : std::nullopt));
+    d.box.add(box_of(model, bodies, i));
     model_box.add(d.box);
     if (p.built_in > 0 && !here) apart.emplace_back(p.built_in, &p);
   }
@@ -607,9 +613,6 @@ void draw_what_falls(Booklet& booklet, const ldraw::Model& model,
                      const std::vector<std::optional<Box>>& bodies) {
   booklet.falls.clear();
   booklet.falls_steps.clear();
-  auto box_of = [&](size_t i) {
-    return part_box(model.parts[i], i < bodies.size() ? bodies[i] : std::nullopt);
-  };
   std::string out = "0 What falls\n0 Name: falls.ldr\n0 Author: legolization\n\n";
   std::vector<Frame> frames;
   std::vector<char> falls(model.parts.size(), 0);
@@ -634,7 +637,7 @@ void draw_what_falls(Booklet& booklet, const ldraw::Model& model,
                              : p.step <= s.number;
       if (!there && !falls[i]) continue;
       lines += ldraw::part_line(falls[i] ? kFallingColor : kAroundColor, p.transform, p.reference);
-      around.add(box_of(i));
+      around.add(box_of(model, bodies, i));
       any = any || falls[i];
     }
     if (!any) continue;

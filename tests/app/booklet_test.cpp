@@ -67,6 +67,31 @@ std::string chromium_dom(const fs::path& page) {
   return out;
 }
 
+// A drawn LDraw file's part lines step by step, each as its colour and x (after the last STEP, a
+// last step with what follows it).
+std::vector<std::vector<std::pair<int, double>>> parts_by_step(const std::string& ldraw) {
+  std::vector<std::vector<std::pair<int, double>>> steps(1);
+  std::istringstream lines(ldraw);
+  for (std::string line; std::getline(lines, line);) {
+    if (line == "0 STEP") steps.emplace_back();
+    if (line.rfind("1 ", 0) != 0) continue;
+    std::istringstream in(line);
+    int type = 0, color = 0;
+    double x = 0;
+    in >> type >> color >> x;
+    steps.back().emplace_back(color, x);
+  }
+  return steps;
+}
+
+// The x of every part line of a drawn LDraw file, in order.
+std::vector<double> xs_of(const std::string& ldraw) {
+  std::vector<double> xs;
+  for (const auto& step : parts_by_step(ldraw))
+    for (const auto& part : step) xs.push_back(part.second);
+  return xs;
+}
+
 class Booklet : public testing::Test {
  protected:
   void SetUp() override {
@@ -280,16 +305,7 @@ TEST(BookletOf, ASubAssemblyBuiltAsideHasItsOwnPages) {
   for (const auto& p : b.parts) total += p.quantity;
   EXPECT_EQ(total, 3);
   // Drawn: the aside parts past the model along x, the ghosts in place; and both cameras.
-  std::vector<double> xs;
-  std::istringstream lines(b.drawn);
-  for (std::string line; std::getline(lines, line);)
-    if (line.rfind("1 ", 0) == 0) {
-      std::istringstream in(line);
-      int type = 0, color = 0;
-      double x = 0;
-      in >> type >> color >> x;
-      xs.push_back(x);
-    }
+  const std::vector<double> xs = xs_of(b.drawn);
   // By step: the base, the two built aside, the two ghosts.
   ASSERT_EQ(xs.size(), 5u);
   EXPECT_EQ(xs[3], 20);
@@ -318,20 +334,8 @@ TEST(BookletOf, TheFirstSubAssemblyIsBuiltInPlace) {
     EXPECT_TRUE(st.note.empty()) << st.note;
     ASSERT_EQ(st.parts.size(), 1u);
   }
-  std::vector<double> xs;
-  std::istringstream lines(w.drawn);
-  int steps = 0;
-  for (std::string line; std::getline(lines, line);) {
-    steps += line == "0 STEP";
-    if (line.rfind("1 ", 0) != 0) continue;
-    std::istringstream in(line);
-    int type = 0, color = 0;
-    double x = 0;
-    in >> type >> color >> x;
-    xs.push_back(x);
-  }
-  EXPECT_EQ(steps, 2);
-  EXPECT_EQ(xs, (std::vector<double>{0, 0}));  // in place, not beside the model
+  EXPECT_EQ(parts_by_step(w.drawn).size(), 3u);            // two STEPs, and what follows the last
+  EXPECT_EQ(xs_of(w.drawn), (std::vector<double>{0, 0}));  // in place, not beside the model
   // A second sub-assembly, after the first: built aside, and set in place with the first.
   const ldraw::Model two = ldraw::read_text(
       "0 FILE main.ldr\n0 main\n1 16 0 0 0 1 0 0 0 1 0 0 0 1 car.ldr\n"
@@ -372,17 +376,7 @@ TEST(BookletOf, WhatFallsIsDrawnInRedInTheModelSoFar) {
   report::draw_what_falls(b, model);
   ASSERT_EQ(b.falls_steps, (std::vector<int>{b.steps[1].number, b.steps[3].number}));
   // Per picture: colour and x of each part drawn.
-  std::vector<std::vector<std::pair<int, double>>> pictures(1);
-  std::istringstream lines(b.falls);
-  for (std::string line; std::getline(lines, line);) {
-    if (line == "0 STEP") pictures.emplace_back();
-    if (line.rfind("1 ", 0) != 0) continue;
-    std::istringstream in(line);
-    int type = 0, color = 0;
-    double x = 0;
-    in >> type >> color >> x;
-    pictures.back().emplace_back(color, x);
-  }
+  const auto pictures = parts_by_step(b.falls);
   ASSERT_EQ(pictures.size(), 3u);  // two pictures and what follows the last STEP
   // The floating brick in red over the base in clear.
   EXPECT_EQ(pictures[0], (std::vector<std::pair<int, double>>{{47, 0}, {4, 0}}));
