@@ -17,7 +17,10 @@
 #include <functional>
 #include <map>
 
+#include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include "core/stopwatch.h"
@@ -273,6 +276,102 @@ void legolize_section(const std::vector<std::pair<std::string, fs::path>>& files
                r["bricks"].get<int>(), number(r["cm_gf_initial"]), number(r["cm_gf_final"]),
                seconds["refine"], seconds["supports"], seconds["build_order"], seconds["total"]);
   }
+}
+
+// What a command cost: its exit code, wall seconds and peak memory (of the largest child).
+struct Run {
+  int exit = -1;
+  double seconds = NAN, max_rss_mb = NAN;
+};
+
+Run run_command(const std::vector<std::string>& argv, const fs::path& out) {
+  const auto start = Clock::now();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (fd < 0 || null < 0) _exit(127);
+    dup2(fd, STDOUT_FILENO);
+    dup2(null, STDERR_FILENO);
+    std::vector<char*> args;
+    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    execv(args[0], args.data());
+    _exit(127);
+  }
+  Run r;
+  int status = 0;
+  struct rusage usage {};
+  if (pid < 0 || wait4(pid, &status, 0, &usage) != pid) return r;
+  r.seconds = seconds_since(start);
+  r.exit = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.max_rss_mb = double(usage.ru_maxrss) / 1024;
+  return r;
+}
+
+// brickcheck on towns of the corpus's models (issue 37: a whole town), as a user runs it on one
+// file: placed parts, wall seconds, peak memory, the time and memory per part, the time per part
+// over the smallest town's, the verdict and the report's stage times. The towns are made once by
+// tools/bench/make_town.py in the bench's scratch folder and kept there for later runs.
+void town_section(const fs::path& source, const fs::path& shared, bool quick) {
+  const fs::path corpus = shared / "ldraw-corpus" / "models.txt";
+  const fs::path library = shared / "ldraw-library";
+  if (!fs::exists(corpus) || !fs::exists(library)) return;
+  const fs::path scratch = fs::temp_directory_path() / "legolization-bench-town";
+  fs::create_directories(scratch);
+  fmt::print(
+      "\n# brickcheck on a town: parts placed wall_s max_rss_mb us_per_part kb_per_part "
+      "per_part_over_smallest verdict parse_s parts_s graph_s solve_s\n");
+  double smallest = NAN;
+  for (int thousands : quick ? std::vector<int>{10, 30} : std::vector<int>{10, 30, 100, 300}) {
+    const fs::path town = scratch / fmt::format("town-{}k.mpd", thousands);
+    if (!fs::exists(town)) {
+      const std::string make = fmt::format(
+          "python3 '{}' --parts {} --ldraw-dir '{}' --part-info '{}' -o '{}' '{}' > /dev/null",
+          (source / "tools" / "bench" / "make_town.py").string(), thousands * 1000,
+          library.string(), PART_INFO, town.string(), corpus.string());
+      if (std::system(make.c_str()) != 0) {
+        fmt::print("town-{}k: make_town.py failed\n", thousands);
+        continue;
+      }
+    }
+    const fs::path report = scratch / fmt::format("town-{}k.json", thousands);
+    const Run run = run_command({BRICKCHECK, "--json", "--max-seconds", "1800", "--ldraw-dir",
+                                 library.string(), town.string()},
+                                report);
+    std::ifstream in(report);
+    nlohmann::json r;
+    try {
+      r = nlohmann::json::parse(in);
+    } catch (const std::exception&) {
+      fmt::print("town-{}k: exit {}, no report\n", thousands, run.exit);
+      continue;
+    }
+    const double parts = r["parts"].get<double>();
+    const double per_part = run.seconds / parts;
+    if (!std::isfinite(smallest)) smallest = per_part;
+    auto stage = [&](const char* name) {
+      return number(r["timing"][name].get<double>(), "{:.1f}");
+    };
+    fmt::print("town-{}k {} {:.1f} {:.0f} {:.0f} {:.1f} {:.2f} {} {} {} {} {}\n", thousands, parts,
+               run.seconds, run.max_rss_mb, per_part * 1e6, run.max_rss_mb * 1024 / parts,
+               per_part / smallest, r["verdict"].get<std::string>(), stage("parse"), stage("parts"),
+               stage("graph"), stage("solve"));
+  }
+  // Many files at once: the corpus's models with -j 2 against one after another, in one run.
+  std::vector<std::string> files;
+  std::ifstream list(corpus);
+  for (std::string name; std::getline(list, name);)
+    if (!name.empty() && name[0] != '#') files.push_back((corpus.parent_path() / name).string());
+  std::map<int, Run> by_jobs;
+  for (int jobs : {1, 2}) {
+    std::vector<std::string> argv{BRICKCHECK,           "--json",      "-j",
+                                  std::to_string(jobs), "--ldraw-dir", library.string()};
+    argv.insert(argv.end(), files.begin(), files.end());
+    by_jobs[jobs] = run_command(argv, scratch / fmt::format("corpus-j{}.json", jobs));
+  }
+  fmt::print("corpus of {} models: -j 1 {:.1f} s, -j 2 {:.1f} s, ratio {:.2f}\n", files.size(),
+             by_jobs[1].seconds, by_jobs[2].seconds, by_jobs[2].seconds / by_jobs[1].seconds);
 }
 
 // brickcheck over the Datsville corpus: the share of models with a C_M, of part occurrences
@@ -771,6 +870,8 @@ int main(int argc, char** argv) {
     hard_section("/usr/share/assimp/models/OBJ/spider.obj", only, quick);
   if (wanted("physics")) bench::physics_section(source, source / ".." / "shared");
   if (wanted("corpus")) corpus_section(source / ".." / "shared", 60);
+  // Minutes of runs: only when asked for by name.
+  if (only == "town") town_section(source, source / ".." / "shared", quick);
   // Heat maps double the corpus's time: only in a whole run or when asked for by name.
   if (only.empty() || only == "corpus-heat") corpus_heat_section(source / ".." / "shared", 60);
 }

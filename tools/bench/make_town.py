@@ -3,7 +3,9 @@
 measure brickcheck on (issue: a whole town, 300,000 parts).
 
 Each model's blocks are written once, renamed so that two models' blocks never share a name,
-and the town's main model places the models' main blocks, cycling through the list until the
+the files a model places from its own folder (a street lamp, a minifigure, a custom part) are
+written once as blocks of the town too, so that the town is one file that needs only the LDraw
+library, and the town's main model places the models' main blocks, cycling through the list until the
 town holds at least --parts placed parts (after flattening). Models sit --spacing LDU apart, far
 enough that no two touch, each on the town's stud lattice. With --ldraw-dir and --part-info each model's lowest point is set on
 the town's ground (y = 0), as each file's own is when it is checked alone.
@@ -38,6 +40,37 @@ def reference(line):
     """The file a type-1 line places, or None."""
     words = line.split(None, 14)
     return words[14].strip() if len(words) == 15 and words[0] == "1" else None
+
+
+def local_files(blocks, folder, found):
+    """Adds to `found` (lower-case reference -> (blocks, whether a part)) every file the blocks place from `folder`
+    (LDraw looks in the model's own folder before the library), and those such files place, with
+    their own submodels renamed apart as "<file>_<submodel>"."""
+    listing = {name.lower(): name for name in os.listdir(folder)}
+    names = {name.lower() for name, _ in blocks}
+    for _, body in blocks:
+        for line in body:
+            ref = reference(line)
+            if ref is None:
+                continue
+            key = ref.replace("\\", "/").lower()
+            if key in names or ref.lower() in found or key not in listing:
+                continue
+            file_blocks = read_blocks(os.path.join(folder, listing[key]))
+            if not file_blocks:
+                continue
+            file_blocks = renamed(file_blocks, ref + "_", main_name=ref)
+            found[ref.lower()] = (file_blocks, says_part(file_blocks[0][1]))
+            local_files(file_blocks, folder, found)
+
+
+def says_part(body):
+    """Whether a file's header names it a part (LDraw's !LDRAW_ORG), which a town places whole."""
+    for line in body[:20]:
+        org = line.lower().partition("!ldraw_org")
+        if org[1]:
+            return any(kind in org[2] for kind in ("part", "primitive", "shortcut"))
+    return False
 
 
 def part_count(blocks):
@@ -138,19 +171,21 @@ def lattice_phase(blocks):
     return max(votes, key=votes.get) if votes else (0.0, 0.0)
 
 
-def renamed(blocks, prefix):
-    """The blocks with their names, and the references to them, prefixed."""
+def renamed(blocks, prefix, main_name=None):
+    """The blocks with their names, and the references to them, prefixed; the first block named
+    `main_name` instead where given (a file placed by its own name)."""
     names = {name.lower() for name, _ in blocks}
     out = []
-    for name, body in blocks:
+    for k, (name, body) in enumerate(blocks):
         lines = []
         for line in body:
             ref = reference(line)
             if ref is not None and ref.lower() in names:
+                target = main_name if main_name and ref.lower() == blocks[0][0].lower() else prefix + ref
                 head = line[: len(line) - len(line.lstrip())] + " ".join(line.split(None, 14)[:14])
-                line = f"{head} {prefix}{ref}"
+                line = f"{head} {target}"
             lines.append(line)
-        out.append((prefix + name, lines))
+        out.append((main_name if main_name and k == 0 else prefix + name, lines))
     return out
 
 
@@ -170,14 +205,20 @@ def main():
     with open(args.models, encoding="utf-8") as f:
         files = [line.strip() for line in f if line.strip() and not line.startswith("#")]
     files = [name for name in files if os.path.basename(name).startswith(args.only)]
-    models = []
+    models, local = [], {}
     for k, name in enumerate(files):
-        blocks = read_blocks(os.path.join(root, name))
+        path = os.path.join(root, name)
+        blocks = read_blocks(path)
         if blocks:
+            mine = {}
+            local_files(blocks, os.path.dirname(path), mine)
+            local.update(mine)
+            # The files a model places whole count as parts; the others are its submodels.
+            whole = blocks + [b for file_blocks, part in mine.values() if not part for b in file_blocks]
             drop = 0.0
             if args.ldraw_dir and args.part_info:
-                drop = lowest_point(blocks, args.part_info, args.ldraw_dir) or 0.0
-            models.append((renamed(blocks, f"t{k:03d}_"), part_count(blocks), drop, lattice_phase(blocks)))
+                drop = lowest_point(whole, args.part_info, args.ldraw_dir) or 0.0
+            models.append((renamed(blocks, f"t{k:03d}_"), part_count(whole), drop, lattice_phase(whole)))
     if not models or sum(m[1] for m in models) == 0:
         sys.exit(f"{args.models}: no parts in its models")
     placed, total = [], 0
@@ -201,6 +242,10 @@ def main():
             out.write(f"1 16 {x:g} {y:g} {z:g} 1 0 0 0 1 0 0 0 1 {models[k][0][0][0]}\n")
         for k in sorted(set(placed)):
             for name, body in models[k][0]:
+                out.write(f"0 FILE {name}\n")
+                out.write("\n".join(body) + "\n")
+        for file_blocks, _ in local.values():
+            for name, body in file_blocks:
                 out.write(f"0 FILE {name}\n")
                 out.write("\n".join(body) + "\n")
     print(f"{args.output}: {len(placed)} models, {total} placed parts")
