@@ -138,7 +138,7 @@ struct Planner {
     snapped.resize(size_t(n));
     placed.assign(size_t(n), 0);
     reachable.assign(size_t(n), 0);
-    const auto graph = physics::ContactGraph::build(a, ground);
+    const auto graph = physics::ContactGraph::connections(a, ground);
     std::vector<std::vector<int>> on;  // per brick: the supports snapped onto it from above
     on.resize(size_t(n));
     grounded_support.assign(size_t(n), 0);

@@ -51,12 +51,20 @@ Vec3 body_centre(const Brick& brick) {
 
 ContactGraph ContactGraph::build(const Assembly& a, GroundMode ground, bool assumed_joints,
                                  const Budget* budget) {
-  return ContactGraphBuilder(a, ground, assumed_joints, budget).build();
+  return ContactGraphBuilder(a, ground, assumed_joints, budget, true).build();
+}
+
+ContactGraph ContactGraph::connections(const Assembly& a, GroundMode ground, const Budget* budget) {
+  return ContactGraphBuilder(a, ground, true, budget, false).build();
 }
 
 ContactGraphBuilder::ContactGraphBuilder(const Assembly& a, GroundMode ground, bool assumed_joints,
-                                         const Budget* budget)
-    : a_(a), n_(int(a.bricks.size())), assumed_joints_(assumed_joints), budget_(budget) {
+                                         const Budget* budget, bool friction_points)
+    : a_(a),
+      n_(int(a.bricks.size())),
+      assumed_joints_(assumed_joints),
+      friction_points_(friction_points),
+      budget_(budget) {
   g_.ground = ground;
   g_.contacts_of.resize(size_t(n_));
   g_.fixed.assign(size_t(n_), 0);
@@ -242,7 +250,7 @@ void ContactGraphBuilder::add_meeting_contacts() {
       c.studs = int(rs.size());
       c.support = true;
       c.first_point = uint32_t(g_.friction_points.size());
-      if (!(g_.ground == GroundMode::Table && c.lower == kGround))
+      if (friction_points_ && !(g_.ground == GroundMode::Table && c.lower == kGround))
         for (const Vec3& r : rs)
           add_friction_points(receptacles_, c.upper, r, opposite(m->direction), g_.friction_points);
       c.point_count = uint32_t(g_.friction_points.size()) - c.first_point;

@@ -51,7 +51,7 @@ void add_friction_points(const ReceptacleIndex& all, int upper, const Vec3& r, i
 class ContactGraphBuilder {
  public:
   ContactGraphBuilder(const Assembly& a, GroundMode ground, bool assumed_joints,
-                      const Budget* budget);
+                      const Budget* budget, bool friction_points);
   ContactGraph build() &&;
 
  private:
@@ -104,6 +104,7 @@ class ContactGraphBuilder {
   const Assembly& a_;
   const int n_;
   const bool assumed_joints_;
+  const bool friction_points_;  // false: ContactGraph::connections
   const Budget* budget_;
   ContactGraph g_;
 

@@ -8,19 +8,22 @@ namespace lego::physics {
 
 // Faces that touch, and bodies that overlap.
 void ContactGraphBuilder::touch_faces() {
-  // A box in several cells is met once per cell: the candidates are gathered, then taken once
-  // each (a baseplate near thousands of parts made a search of those seen quadratic).
+  // A box in several cells is met once per cell: each candidate is taken once (a baseplate near
+  // thousands of parts made a search of those seen quadratic).
   std::vector<int> near;
+  std::vector<int> met_by(box_owner_.size(), -1);  // per box: the last box that met it
   for (int id = 0; id < int(box_owner_.size()); ++id) {
     const Box& bi = box(id);
     const int i = owner(id);
     if (id == 0 || owner(id - 1) != i) check_time(i);
     near.clear();
     index_.near(bi, kTouch, [&](int other) {
-      if (other > id && owner(other) != i) near.push_back(other);
+      if (other > id && owner(other) != i && met_by[size_t(other)] != id) {
+        met_by[size_t(other)] = id;
+        near.push_back(other);
+      }
     });
-    std::sort(near.begin(), near.end());
-    near.erase(std::unique(near.begin(), near.end()), near.end());
+    std::sort(near.begin(), near.end());  // the order meetings have always been made in
     for (const int other : near) {
       const Box& bj = box(other);
       const int j = owner(other);

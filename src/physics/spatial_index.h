@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -35,6 +34,58 @@ inline PointKey key_of(const Vec3& p, int direction) {
   return {snap_steps(p[0]), snap_steps(p[1]), snap_steps(p[2]), direction};
 }
 
+// PointKey -> a whole number, by open addressing in one array: std::unordered_map allocated a
+// node per key, and a town's receptacles took a tenth of its contact graph's time to index.
+class PointTable {
+ public:
+  // The value at `key`, set to `value` where there was none; whether it was set.
+  std::pair<int*, bool> try_emplace(const PointKey& key, int value) {
+    if (4 * (used_ + 1) > 3 * slots_.size()) grow();
+    Slot* s = &slots_[start(key)];
+    for (size_t mask = slots_.size() - 1; s->value >= 0;
+         s = &slots_[size_t(s - slots_.data() + 1) & mask])
+      if (s->x == key.x && s->y == key.y && s->z == key.z && s->direction == key.direction)
+        return {&s->value, false};
+    *s = {key.x, key.y, key.z, key.direction, value};
+    ++used_;
+    return {&s->value, true};
+  }
+  // The value at `key`, or -1.
+  int find(const PointKey& key) const {
+    if (slots_.empty()) return -1;
+    const size_t mask = slots_.size() - 1;
+    for (size_t i = start(key);; i = (i + 1) & mask) {
+      const Slot& s = slots_[i];
+      if (s.value < 0) return -1;
+      if (s.x == key.x && s.y == key.y && s.z == key.z && s.direction == key.direction)
+        return s.value;
+    }
+  }
+  void reserve(size_t n) {
+    while (4 * n > 3 * slots_.size()) grow();
+  }
+
+ private:
+  struct Slot {
+    int64_t x, y, z;
+    int direction, value;  // value -1: an empty slot
+  };
+  std::vector<Slot> slots_;
+  size_t used_ = 0;
+
+  size_t start(const PointKey& key) const {
+    const uint64_t h = uint64_t(PointKeyHash{}(key)) * 0x9E3779B97F4A7C15ull;
+    return size_t(h >> 32) & (slots_.size() - 1);
+  }
+  void grow() {
+    std::vector<Slot> old(std::max<size_t>(16, 2 * slots_.size()), Slot{0, 0, 0, 0, -1});
+    old.swap(slots_);
+    used_ = 0;
+    for (const Slot& s : old)
+      if (s.value >= 0) try_emplace({s.x, s.y, s.z, s.direction}, s.value);
+  }
+};
+
 // Every receptacle of the assembly by position and facing; duplicates chain through `next`.
 class ReceptacleIndex {
  public:
@@ -44,15 +95,12 @@ class ReceptacleIndex {
   };
   void add(const Connector& c, int brick) {
     const int index = int(entries_.size());
-    auto [it, inserted] = first_.try_emplace(key_of(c.at, c.direction), index);
-    entries_.push_back({c.at, c.direction, brick, inserted ? -1 : it->second});
-    if (!inserted) it->second = index;
+    auto [first, inserted] = first_.try_emplace(key_of(c.at, c.direction), index);
+    entries_.push_back({c.at, c.direction, brick, inserted ? -1 : *first});
+    if (!inserted) *first = index;
   }
   // The first entry at p facing `direction`, or -1; follow Entry::next for the others.
-  int find(const Vec3& p, int direction) const {
-    auto it = first_.find(key_of(p, direction));
-    return it == first_.end() ? -1 : it->second;
-  }
+  int find(const Vec3& p, int direction) const { return first_.find(key_of(p, direction)); }
   bool owned_by(const Vec3& p, int direction, int brick) const {
     for (int e = find(p, direction); e >= 0; e = entries_[size_t(e)].next)
       if (entries_[size_t(e)].brick == brick) return true;
@@ -65,7 +113,7 @@ class ReceptacleIndex {
   }
 
  private:
-  std::unordered_map<PointKey, int, PointKeyHash> first_;
+  PointTable first_;
   std::vector<Entry> entries_;
 };
 
@@ -90,10 +138,16 @@ class BoxIndex {
       for (const auto& [cell, id] : cells_) f(id);
       return;
     }
-    for_cells(b, margin, [&](uint64_t cell) {
-      auto it = std::lower_bound(cells_.begin(), cells_.end(), std::pair<uint64_t, int>(cell, -1));
-      for (; it != cells_.end() && it->first == cell; ++it) f(it->second);
-    });
+    // A run of cells along z is one stretch of the sorted list: one search each.
+    int64_t lo[3], hi[3];
+    range(b, margin, lo, hi);
+    for (int64_t x = lo[0]; x <= hi[0]; ++x)
+      for (int64_t y = lo[1]; y <= hi[1]; ++y) {
+        const uint64_t first = key(x, y, lo[2]), last = key(x, y, hi[2]);
+        auto it =
+            std::lower_bound(cells_.begin(), cells_.end(), std::pair<uint64_t, int>(first, -1));
+        for (; it != cells_.end() && it->first <= last; ++it) f(it->second);
+      }
   }
 
  private:
@@ -131,8 +185,10 @@ class BoxIndex {
     range(b, margin, lo, hi);
     for (int64_t x = lo[0]; x <= hi[0]; ++x)
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
-        for (int64_t z = lo[2]; z <= hi[2]; ++z)
-          f((uint64_t(x + kOffset) << 42) | (uint64_t(y + kOffset) << 21) | uint64_t(z + kOffset));
+        for (int64_t z = lo[2]; z <= hi[2]; ++z) f(key(x, y, z));
+  }
+  static uint64_t key(int64_t x, int64_t y, int64_t z) {
+    return (uint64_t(x + kOffset) << 42) | (uint64_t(y + kOffset) << 21) | uint64_t(z + kOffset);
   }
 };
 

@@ -172,7 +172,7 @@ void carry_lone_turned(Audit& audit, const physics::StabilityOptions& o) {
   const Assembly& a = audit.conversion.assembly;
   if (std::none_of(a.bricks.begin(), a.bricks.end(), [](const Brick& b) { return b.frame; }))
     return;
-  const auto graph = physics::ContactGraph::build(a, o.ground, true, o.budget);
+  const auto graph = physics::ContactGraph::connections(a, o.ground, o.budget);
   std::vector<char> alone(a.bricks.size(), 0);
   for (size_t i = 0; i < a.bricks.size(); ++i) {
     if (!a.bricks[i].frame) continue;
@@ -192,7 +192,7 @@ struct Floating {
   std::vector<char> bricks;
 };
 Floating floating_bricks(const Assembly& a, const physics::StabilityOptions& o) {
-  Floating out{physics::ContactGraph::build(a, o.ground, true, o.budget),
+  Floating out{physics::ContactGraph::connections(a, o.ground, o.budget),
                std::vector<char>(a.bricks.size(), 0)};
   for (int b : physics::analyze_connectivity(int(a.bricks.size()), out.graph).floating)
     out.bricks[size_t(b)] = 1;
