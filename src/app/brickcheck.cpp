@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <thread>
 
 #include "app/number_checks.h"
 #include "app/output_paths.h"
@@ -429,6 +431,9 @@ int main(int argc, char** argv) {
   }
 
   const int jobs_used = int(std::min(size_t(jobs), files.size()));
+  // One file at a time: its independent structures' large blocks (a town's) two at a time.
+  options.stability.block_jobs =
+      jobs_used > 1 ? 1 : int(std::clamp(std::thread::hardware_concurrency(), 1u, 2u));
   // On a terminal only, and for one file at a time: lines of files checked at once would mix.
   const bool progress = !quiet && jobs_used == 1 && ::isatty(STDERR_FILENO);
   Reported reported;

@@ -112,14 +112,17 @@ std::vector<EquilibriumBlock> independent_blocks(const EquilibriumSystem& sys, i
   return split(sys, block_of, count);
 }
 
-EquilibriumBlock structures_holding(const EquilibriumSystem& sys, const std::vector<int>& bodies) {
+std::vector<EquilibriumBlock> structures_holding(const EquilibriumSystem& sys,
+                                                 const std::vector<int>& bodies) {
   int structures = 0;
   const std::vector<int> structure = structure_of_bodies(sys, structures);
-  std::vector<char> kept(size_t(structures), 0);
-  for (int b : bodies) kept[size_t(structure[size_t(b)])] = 1;
+  std::vector<int> kept(size_t(structures), -1);  // per structure: its block
+  int count = 0;
+  for (int b : bodies)
+    if (int& k = kept[size_t(structure[size_t(b)])]; k < 0) k = count++;
   std::vector<int> block_of(structure.size());
-  for (size_t b = 0; b < structure.size(); ++b) block_of[b] = kept[size_t(structure[b])] ? 0 : -1;
-  return std::move(split(sys, block_of, 1).front());
+  for (size_t b = 0; b < structure.size(); ++b) block_of[b] = kept[size_t(structure[b])];
+  return split(sys, block_of, count);
 }
 
 }  // namespace lego::physics

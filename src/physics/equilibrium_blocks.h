@@ -20,8 +20,10 @@ struct EquilibriumBlock {
 // whole; none when that makes a single block.
 std::vector<EquilibriumBlock> independent_blocks(const EquilibriumSystem& system, int least_bodies);
 
-// The structures that hold one of `bodies`, as one block: what a diagnosis of those bodies needs.
-EquilibriumBlock structures_holding(const EquilibriumSystem& system,
-                                    const std::vector<int>& bodies);
+// The structures that hold one of `bodies`, each as a block of its own: what a diagnosis of
+// those bodies needs. One simplex over all of them at once costs more than one over each (a town
+// with the same unbalanced building several times: docs/scale.md).
+std::vector<EquilibriumBlock> structures_holding(const EquilibriumSystem& system,
+                                                 const std::vector<int>& bodies);
 
 }  // namespace lego::physics

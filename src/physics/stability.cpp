@@ -1,6 +1,7 @@
 #include "physics/stability.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -9,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "core/in_order.h"
 #include "core/stopwatch.h"
 #include "physics/clp_lp.h"
 #include "physics/equilibrium_blocks.h"
@@ -114,7 +116,8 @@ std::optional<std::vector<int>> unbalanced_bodies(const EquilibriumSystem& sys,
 
 // With no equilibrium, the joints that turn and must not: the model analysed with them holding a
 // moment about their axis as well, friction unlimited, the least total such moment (each column
-// split by sign, priced 1). None when even that does not stand: what fails is elsewhere.
+// split by sign, priced 1), each structure with no equilibrium alone. None of a structure that
+// does not stand even so: what fails there is elsewhere.
 std::vector<std::pair<int, double>> turning_joints(const Assembly& a, const StabilityResult& r,
                                                    const StabilityOptions& o) {
   if (r.status != StabilityStatus::NoEquilibrium) return {};
@@ -125,30 +128,38 @@ std::vector<std::pair<int, double>> turning_joints(const Assembly& a, const Stab
   Formulation held = o.formulation;
   held.turning_joints_hold = true;
   const EquilibriumSystem whole = build_equilibrium(a, r.graph, r.connectivity, held);
-  // Only the structures with no equilibrium: a town's standing buildings are no part of it.
+  // Only the structures with no equilibrium, each alone: a town's standing buildings are no part
+  // of it.
   std::vector<int> bodies;
   for (int brick : r.unbalanced)
     if (whole.body_of[size_t(brick)] >= 0) bodies.push_back(whole.body_of[size_t(brick)]);
-  const EquilibriumBlock unbalanced =
-      bodies.empty() ? EquilibriumBlock{whole, {}, {}} : structures_holding(whole, bodies);
-  const EquilibriumSystem& sys = unbalanced.system;
-  LpData lp = equilibrium_lp(sys, kInfinity, 1.0, kInfinity);
-  for (int j : sys.turning_columns) {
-    lp.col_lower[size_t(j)] = 0, lp.objective[size_t(j)] = 1;
-    std::vector<std::pair<int, double>> negated;
-    for (int k = sys.column_start[size_t(j)]; k < sys.column_start[size_t(j) + 1]; ++k)
-      negated.emplace_back(sys.row_index[size_t(k)], -sys.value[size_t(k)]);
-    lp.add_column(0, kInfinity, 1, negated);
-  }
-  const LpSolution s =
-      solve_lp(lp, LpMethod::DualSimplex, true, true, solve_seconds(o, o.max_seconds));
-  if (o.budget) o.budget->check(kSolve, size_t(s.iterations));
-  if (s.outcome != LpOutcome::Optimal) return {};
+  std::vector<EquilibriumBlock> structures;
+  if (bodies.empty())
+    structures.push_back({whole, {}, {}});
+  else
+    structures = structures_holding(whole, bodies);
+  const auto start = std::chrono::steady_clock::now();
   std::map<int, double> by_contact;
-  for (size_t t = 0; t < sys.turning_columns.size(); ++t) {
-    const int j = sys.turning_columns[t];
-    const double moment = s.x[size_t(j)] + s.x[size_t(sys.columns()) + t];
-    if (moment > 1e-6) by_contact[sys.contact[size_t(j)]] += moment;
+  for (const EquilibriumBlock& structure : structures) {
+    const EquilibriumSystem& sys = structure.system;
+    if (sys.turning_columns.empty()) continue;  // nothing turns there: what fails is elsewhere
+    LpData lp = equilibrium_lp(sys, kInfinity, 1.0, kInfinity);
+    for (int j : sys.turning_columns) {
+      lp.col_lower[size_t(j)] = 0, lp.objective[size_t(j)] = 1;
+      std::vector<std::pair<int, double>> negated;
+      for (int k = sys.column_start[size_t(j)]; k < sys.column_start[size_t(j) + 1]; ++k)
+        negated.emplace_back(sys.row_index[size_t(k)], -sys.value[size_t(k)]);
+      lp.add_column(0, kInfinity, 1, negated);
+    }
+    const LpSolution s = solve_lp(lp, LpMethod::DualSimplex, true, true,
+                                  solve_seconds(o, seconds_left(start, o.max_seconds)));
+    if (o.budget) o.budget->check(kSolve, size_t(s.iterations));
+    if (s.outcome != LpOutcome::Optimal) continue;
+    for (size_t t = 0; t < sys.turning_columns.size(); ++t) {
+      const int j = sys.turning_columns[t];
+      const double moment = s.x[size_t(j)] + s.x[size_t(sys.columns()) + t];
+      if (moment > 1e-6) by_contact[sys.contact[size_t(j)]] += moment;
+    }
   }
   std::vector<std::pair<int, double>> out(by_contact.begin(), by_contact.end());
   for (auto& [contact, moment] : out) moment *= kJointUnit;  // lever arms are in studs
@@ -256,6 +267,9 @@ void solve_scaled(const EquilibriumSystem& sys, const ContactGraph& graph,
   rank_weakest(sys, graph, duals, r);
 }
 
+// A block of this many bodies or more is worth a thread of its own (solve_scaled_by_blocks).
+constexpr int kBodiesOfALargeBlock = 500;
+
 // The scaled LP, one per independent block of the system (equilibrium_blocks.h): C_M is the
 // least of the blocks', the weakest contacts and the duals are those of the block that has it,
 // and the forces are every block's own. A block with no equilibrium leaves the model none, its
@@ -266,22 +280,47 @@ void solve_scaled_by_blocks(const EquilibriumSystem& sys, const ContactGraph& gr
   if (blocks.empty()) return solve_scaled(sys, graph, o, r);
   const auto start = std::chrono::steady_clock::now();
   std::vector<StabilityResult> parts(blocks.size());
+  std::vector<SolvedBlocks::Key> keys(blocks.size());
+  std::vector<size_t> unsolved;
   for (size_t k = 0; k < blocks.size(); ++k) {
-    const EquilibriumSystem& block = blocks[k].system;
-    SolvedBlocks::Key key{};
     std::optional<StabilityResult> before;
     if (o.solved_blocks) {
-      key = SolvedBlocks::key_of(block);
-      before = o.solved_blocks->find(key, block, graph);
+      keys[k] = SolvedBlocks::key_of(blocks[k].system);
+      before = o.solved_blocks->find(keys[k], blocks[k].system, graph);
     }
-    if (before) {
+    if (before)
       parts[k] = std::move(*before);
-    } else {
-      StabilityOptions left = o;
-      left.max_seconds = seconds_left(start, o.max_seconds);
-      solve_scaled(block, graph, left, parts[k]);
-      if (o.solved_blocks) o.solved_blocks->store(key, block, parts[k]);
-    }
+    else
+      unsolved.push_back(k);
+  }
+  // Large blocks two at a time, one BLAS thread each: measured on a town of 30,000 parts, one
+  // BLAS thread alone already solves faster than two (docs/scale.md), and the second core is then
+  // free for the next block. A model of one large structure keeps both BLAS threads.
+  const auto large = std::count_if(unsolved.begin(), unsolved.end(), [&](size_t k) {
+    return blocks[k].system.rows / EquilibriumSystem::kEquations >= kBodiesOfALargeBlock;
+  });
+  const int jobs = large >= 2 ? std::max(o.block_jobs, 1) : 1;
+  const OneBlasThreadEach blas_threads(jobs > 1);
+  std::atomic<bool> undecided{false};  // a block the solver could not decide: solve no more
+  run_in_order<StabilityResult>(
+      unsolved.size(), jobs,
+      [&](size_t i) {
+        StabilityResult part;
+        if (undecided) return part;  // left Empty: reported after the undecided one before it
+        StabilityOptions left = o;
+        left.max_seconds = seconds_left(start, o.max_seconds);
+        solve_scaled(blocks[unsolved[i]].system, graph, left, part);
+        if (!decided(part.status) && part.status != StabilityStatus::NoEquilibrium)
+          undecided = true;
+        return part;
+      },
+      [&](size_t i, StabilityResult&& part) {
+        const size_t k = unsolved[i];
+        if (o.solved_blocks && part.status != StabilityStatus::Empty)
+          o.solved_blocks->store(keys[k], blocks[k].system, part);
+        parts[k] = std::move(part);
+      });
+  for (size_t k = 0; k < blocks.size(); ++k) {
     const LpStats& s = parts[k].stats;
     r.stats.rows += s.rows;
     r.stats.columns += s.columns;

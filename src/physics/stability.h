@@ -54,6 +54,9 @@ struct StabilityOptions {
   // town's buildings) are solved apart, gathered into LPs of at least this many bodies
   // (equilibrium_blocks.h). C_M is the same; only the time differs.
   int block_bodies = 50;
+  // Blocks solved at once, on as many threads with one BLAS thread each, where two or more are
+  // large (a town): 1 where analyses already run side by side.
+  int block_jobs = 1;
   // Blocks solved by earlier analyses with these options, reused where their equations are the
   // same and kept for later ones (solved_blocks.h); none: every block is solved.
   SolvedBlocks* solved_blocks = nullptr;
@@ -139,7 +142,8 @@ EquilibriumSystem build_equilibrium(const Assembly& assembly, StabilityResult& r
 void solve_equilibrium(const Assembly& assembly, const EquilibriumSystem& system,
                        const StabilityOptions& options, StabilityResult& result);
 // With no equilibrium, the joints that turn and must not, each with the least moment about its
-// axis it would have to hold (gf·stud · g): none when even joints that hold do not stand.
+// axis it would have to hold (gf·stud · g): none in a structure that does not stand even with
+// joints that hold.
 std::vector<std::pair<int, double>> turning_joints(const Assembly& assembly,
                                                    const StabilityResult& result,
                                                    const StabilityOptions& options);

@@ -610,7 +610,9 @@ StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options,
 // keeps the start, and so the report, the same whatever the timing (beginning from whichever step
 // had finished made a step's C_M a certificate's bound in one run and the LP's in another); the
 // LP decides the steps no certificate covers, and gives the weakest step's C_M.
-void audit_steps(Audit& audit, const AuditOptions& options) {
+void audit_steps(Audit& audit, const AuditOptions& given) {
+  AuditOptions options = given;
+  options.stability.block_jobs = 1;  // the steps are analysed two at a time already
   int last = 0;
   for (const Brick& b : audit.conversion.assembly.bricks) last = std::max(last, b.source.step);
   for (const CarriedPart& c : audit.conversion.assembly.carried)

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "app/run_tool.h"
@@ -191,6 +192,33 @@ TEST(BrickcheckReal, TechnicPinsTurnAxlesHold) {
       model("friction-pin.ldr", stack + arm + "1 7 0 -38 10 0 0 1 0 1 0 -1 0 0 4459.dat\n"), 0);
   EXPECT_NEAR(friction["cm_gf"].get<double>(), 71.658 * (1 - 1.74 * 2 / 5), 1e-3);
   EXPECT_EQ(friction["weakest"][0]["b"]["part"], "4459");
+}
+
+// The turning-joint diagnosis takes each structure with no equilibrium alone (a town holds the same
+// building many times): two copies of the one-pin arm, 200 LDU apart, each have their two joints
+// named, with the moment the one alone needs.
+TEST(BrickcheckReal, EachStructureThatTurnsIsDiagnosedAlone) {
+  SKIP_WITHOUT_LIBRARY();
+  std::string arms;
+  for (int x : {0, 200})
+    arms += fmt::format(
+        "1 4 {0} -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n"
+        "1 4 {0} -48 0 1 0 0 0 1 0 0 0 1 3700.dat\n"
+        "1 1 {0} -48 20 1 0 0 0 1 0 0 0 1 3700.dat\n"
+        "1 14 {1} -72 20 1 0 0 0 1 0 0 0 1 3010.dat\n"
+        "1 7 {0} -38 10 0 0 1 0 1 0 -1 0 0 3673.dat\n",
+        x, x + 40);
+  json j = check(model("two-arms.ldr", arms), 1);
+  EXPECT_EQ(j["status"], "no equilibrium");
+  EXPECT_EQ(j["components"], 2);
+  ASSERT_EQ(j["turning"].size(), 4u) << j["turning"];
+  std::set<double> xs;
+  for (const auto& t : j["turning"]) {
+    EXPECT_NEAR(t["moment_gf_stud"].get<double>(), 1.74 * 2, 1e-3) << t;
+    EXPECT_EQ(t["b"]["part"], "3673") << t;
+    xs.insert(t["b"]["position"][0].get<double>());
+  }
+  EXPECT_EQ(xs, (std::set<double>{0, 200}));
 }
 
 // `parts` parts, all analysed, with no assumed joint: two joined by one joint that turns.

@@ -397,6 +397,40 @@ TEST(StabilityProperty, StructuresApartAreSolvedApartAlike) {
   EXPECT_GT(no_equilibrium, 0);
 }
 
+// Large blocks solved two at a time (StabilityOptions::block_jobs, one BLAS thread each) answer as
+// one after another: three boxes of 600 bricks, 100 studs apart, and a stack beside them that
+// joins the last block, with and without blocks an earlier analysis solved.
+TEST(StabilityProperty, LargeBlocksSolvedAtOnceAnswerAsOneAfterAnother) {
+  const Assembly box = bench::hollow_box_of(600);
+  Assembly a;
+  for (int k = 0; k < 3; ++k)
+    for (Brick b : box.bricks) {
+      b.min.x += 100 * k;
+      a.bricks.push_back(b);
+    }
+  add(a, "3001", 400, 0, 0);
+  add(a, "3001", 401, kBrick, 0);
+  const auto one = analyze_stability(a, {.block_bodies = 500, .block_jobs = 1});
+  ASSERT_EQ(one.status, StabilityStatus::Solved) << one.message;
+  SolvedBlocks solved;
+  for (int run = 0; run < 2; ++run) {  // the second run takes every block from the first
+    const auto two =
+        analyze_stability(a, {.block_bodies = 500, .block_jobs = 2, .solved_blocks = &solved});
+    ASSERT_EQ(two.status, StabilityStatus::Solved) << two.message;
+    EXPECT_NEAR(two.cm, one.cm, 1e-9 * kT * kGravity);
+    ASSERT_EQ(two.forces.size(), one.forces.size());
+    for (size_t j = 0; j < one.forces.size(); ++j) ASSERT_NEAR(two.forces[j], one.forces[j], 1e-6);
+    ASSERT_EQ(two.weakest.size(), one.weakest.size());
+    for (size_t k = 0; k < one.weakest.size(); ++k)
+      EXPECT_EQ(two.weakest[k].contact, one.weakest[k].contact);
+    EXPECT_EQ(two.stats.rows, one.stats.rows);
+    if (run == 0) {
+      EXPECT_EQ(two.stats.iterations, one.stats.iterations);
+    }
+  }
+  EXPECT_EQ(solved.reused(), 3);
+}
+
 // An analysis that reuses the blocks an earlier one solved (SolvedBlocks: the audit analyses a
 // model again after carrying a few parts) answers as a fresh one does: the same status, C_M,
 // forces, weakest contacts and unbalanced bricks, named by their new indices after a part is
