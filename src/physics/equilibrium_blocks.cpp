@@ -93,23 +93,34 @@ std::vector<EquilibriumBlock> independent_blocks(const EquilibriumSystem& sys, i
   const std::vector<int> structure = structure_of_bodies(sys, structures);
   std::vector<int> size(size_t(structures), 0);
   for (int s : structure) ++size[size_t(s)];
-  // Structures, in the order of their first bodies, gathered into blocks of at least
-  // `least_bodies` (the last one's remainder joining the one before).
+  // Large structures alone; the small ones, in the order of their first bodies, gathered into
+  // blocks of at least `least_bodies` (the last one's remainder joining the one before).
   std::vector<int> bin(size.size(), 0);
-  int bins = 0, filled = 0;
+  int bins = 0, filling = -1, filled = 0;
   for (size_t k = 0; k < size.size(); ++k) {
-    if (filled >= least_bodies) ++bins, filled = 0;
-    bin[k] = bins;
+    if (size[k] >= least_bodies) {
+      bin[k] = bins++;
+      continue;
+    }
+    if (filling < 0 || filled >= least_bodies) filling = bins++, filled = 0;
+    bin[k] = filling;
     filled += size[k];
   }
-  if (filled < least_bodies && bins > 0)  // the last bin is short: into the one before
-    for (int& b : bin)
-      if (b == bins) b = bins - 1;
-  const int count = *std::max_element(bin.begin(), bin.end()) + 1;
-  if (count < 2) return {};
+  if (filled < least_bodies && filling >= 0) {  // the last small bin is short: into the one before
+    int before = -1;
+    for (size_t k = 0; k < size.size(); ++k)
+      if (size[k] < least_bodies && bin[k] != filling) before = bin[k];
+    if (before >= 0) {
+      for (int& b : bin) b = b == filling ? before : b > filling ? b - 1 : b;
+      --bins;
+    }
+  }
+  if (bins < 2) return {};
   std::vector<int> block_of(structure.size());
   for (size_t b = 0; b < structure.size(); ++b) block_of[b] = bin[size_t(structure[b])];
-  return split(sys, block_of, count);
+  std::vector<EquilibriumBlock> blocks = split(sys, block_of, bins);
+  for (size_t k = 0; k < size.size(); ++k) ++blocks[size_t(bin[k])].structures;
+  return blocks;
 }
 
 std::vector<EquilibriumBlock> structures_holding(const EquilibriumSystem& sys,

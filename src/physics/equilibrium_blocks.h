@@ -12,12 +12,15 @@ struct EquilibriumBlock {
   EquilibriumSystem system;  // its bodies renumbered from 0, its columns in the whole's order
   std::vector<int> columns;  // the whole system's column of each of its columns
   std::vector<int> rows;     // the whole system's row of each of its rows
+  int structures = 0;        // how many independent structures it holds
 };
 
-// The system's independent structures, gathered into blocks of `least_bodies` bodies or more
-// (small LPs each cost a solve's fixed work: the corpus's models, with many small structures,
-// solved 4x slower one structure at a time), each with the friction columns first as in the
-// whole; none when that makes a single block.
+// The system's independent structures as blocks: each of `least_bodies` bodies or more alone, so
+// that its C_M is its own (a town's buildings, ranked weakest first in the report), the smaller
+// ones gathered into blocks of `least_bodies` bodies or more (small LPs each cost a solve's fixed
+// work: the corpus's models, with many small structures, solved 4x slower one structure at a
+// time), each with the friction columns first as in the whole; none when that makes a single
+// block.
 std::vector<EquilibriumBlock> independent_blocks(const EquilibriumSystem& system, int least_bodies);
 
 // The structures that hold one of `bodies`, each as a block of its own: what a diagnosis of

@@ -267,6 +267,34 @@ void solve_scaled(const EquilibriumSystem& sys, const ContactGraph& graph,
   rank_weakest(sys, graph, duals, r);
 }
 
+// Each block's outcome, weakest first, for the report (StabilityResult::blocks).
+void ranked_blocks(const EquilibriumSystem& sys, const std::vector<EquilibriumBlock>& blocks,
+                   const std::vector<StabilityResult>& parts, StabilityResult& r) {
+  r.blocks.resize(blocks.size());
+  std::vector<int> block_of_body(size_t(sys.rows / EquilibriumSystem::kEquations), -1);
+  for (size_t k = 0; k < blocks.size(); ++k) {
+    BlockOutcome& b = r.blocks[k];
+    b.structures = blocks[k].structures;
+    b.status = parts[k].status;
+    b.cm = parts[k].cm;
+    for (int row : blocks[k].rows)
+      block_of_body[size_t(EquilibriumSystem::body_of_row(row))] = int(k);
+  }
+  for (size_t brick = 0; brick < sys.body_of.size(); ++brick)
+    if (const int body = sys.body_of[brick]; body >= 0 && block_of_body[size_t(body)] >= 0)
+      r.blocks[size_t(block_of_body[size_t(body)])].bricks.push_back(int(brick));
+  auto rank = [](const BlockOutcome& b) {
+    return b.status == StabilityStatus::NoEquilibrium ? 0
+           : b.status == StabilityStatus::Solved      ? 2
+                                                      : 1;
+  };
+  std::stable_sort(r.blocks.begin(), r.blocks.end(),
+                   [&](const BlockOutcome& x, const BlockOutcome& y) {
+                     if (rank(x) != rank(y)) return rank(x) < rank(y);
+                     return rank(x) == 2 && x.cm < y.cm;
+                   });
+}
+
 // A block of this many bodies or more is worth a thread of its own (solve_scaled_by_blocks).
 constexpr int kBodiesOfALargeBlock = 500;
 
@@ -329,6 +357,7 @@ void solve_scaled_by_blocks(const EquilibriumSystem& sys, const ContactGraph& gr
     if (r.stats.solver.empty() || s.solver != r.stats.solver) r.stats.solver = s.solver;
     if (!decided(parts[k].status) && parts[k].status != StabilityStatus::NoEquilibrium) break;
   }
+  ranked_blocks(sys, blocks, parts, r);
   for (const StabilityResult& part : parts)
     if (part.status == StabilityStatus::NoEquilibrium) {
       if (r.status != StabilityStatus::NoEquilibrium) r.message = part.message;

@@ -99,6 +99,16 @@ struct LpStats {
   double graph_seconds = 0, build_seconds = 0, solve_seconds = 0, capacity_seconds = 0;
 };
 
+// One LP of a model whose independent structures are solved apart (equilibrium_blocks.h): a
+// structure of many parts (a town's building), or small ones gathered.
+struct BlockOutcome {
+  std::vector<int> bricks;  // sorted
+  int structures = 1;
+  StabilityStatus status = StabilityStatus::Empty;
+  double cm = 0;  // g·m/s², when Solved
+  double cm_gf() const { return cm / kGravity; }
+};
+
 struct StabilityResult {
   StabilityStatus status = StabilityStatus::Empty;
   double cm = 0;                       // C_M in g·m/s² (valid when Solved)
@@ -117,6 +127,9 @@ struct StabilityResult {
   // build_equilibrium(assembly, graph), and the LP's row duals (Clp's sign: reduced cost =
   // c − Aᵀy, with c = −1 on w). What local_bounds.h starts from; empty otherwise.
   std::vector<double> forces, row_duals;
+  // Where the structures were solved apart: each LP's outcome, weakest first (no equilibrium,
+  // then any the solver could not decide, then by C_M); empty when one LP held the model.
+  std::vector<BlockOutcome> blocks;
   // C_M is a lower bound proven by a force field (step_stability.h), not the LP's optimum; the
   // weakest contacts, turning joints and capacities are then not computed.
   bool certified = false;

@@ -181,6 +181,18 @@ json render_json(const Audit& a, const AuditOptions& options) {
   for (const auto& w : r.weakest)
     j["weakest"].push_back(
         {{"a", brick_json(a, w.lower)}, {"b", brick_json(a, w.upper)}, {"dual", w.share}});
+  j["structures"] = json::array();
+  for (const auto& b : r.blocks) {
+    const bool cm = b.status == physics::StabilityStatus::Solved;
+    json first = b.bricks.empty() ? json(nullptr) : brick_json(a, b.bricks.front());
+    if (!b.bricks.empty())
+      first["submodel"] = a.model.parts[a.conversion.brick_part[size_t(b.bricks.front())]].submodel;
+    j["structures"].push_back({{"status", physics::to_string(b.status)},
+                               {"cm_gf", number_or_null(cm, b.cm_gf())},
+                               {"parts", b.bricks.size()},
+                               {"structures", b.structures},
+                               {"first", first}});
+  }
   if (options.steps) {
     j["steps"] = json::array();
     for (const auto& s : a.steps) {

@@ -222,6 +222,26 @@ std::string render_text(const Audit& a, bool quiet) {
     if (!shown) line("  no contact needs friction: the model stands on its normal forces alone");
     if (!r.message.empty()) line("  solver: " + r.stats.solver + " (" + r.message + ")");
   }
+  if (r.blocks.size() > 1) {
+    const size_t shown = std::min<size_t>(r.blocks.size(), 5);
+    line(fmt::format("  structures solved apart: {}; the weakest {}:", r.blocks.size(), shown));
+    for (size_t i = 0; i < shown; ++i) {
+      const physics::BlockOutcome& b = r.blocks[i];
+      const std::string state = b.status == physics::StabilityStatus::Solved
+                                    ? fmt::format("{:.3f} gf", b.cm_gf())
+                                    : std::string(physics::to_string(b.status));
+      const std::string what =
+          b.structures > 1 ? fmt::format("{} small structures", b.structures) : "one structure";
+      std::string first = "-";
+      if (!b.bricks.empty()) {
+        first = describe_brick(a, b.bricks.front());
+        const auto& part = a.model.parts[a.conversion.brick_part[size_t(b.bricks.front())]];
+        if (!part.submodel.empty()) first += " in " + one_line(part.submodel);
+      }
+      line(fmt::format("    {:>16}  {}, {}, the first {}", state, what,
+                       plural(b.bricks.size(), "part"), first));
+    }
+  }
   if (!a.steps.empty()) {
     line("  build steps:");
     for (const auto& s : a.steps) {

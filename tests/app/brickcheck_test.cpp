@@ -45,6 +45,44 @@ fs::path scratch(const std::string& name) {
   return test::scratch("lego_brickcheck_", name);
 }
 
+// Independent structures of many parts are solved apart and reported weakest first (a town's
+// buildings): two columns of 60 1 x 2 bricks, the second with a 1 x 4 on top held by one end, and
+// two lone bricks beside them, too small to be solved alone: gathered. The model's C_M is the
+// weaker column's.
+TEST(Brickcheck, StructuresSolvedApartAreReportedWeakestFirst) {
+  std::string lines;
+  for (int x : {0, 200})
+    for (int k = 1; k <= 60; ++k)
+      lines += fmt::format("1 4 {} {} 0 1 0 0 0 1 0 0 0 1 3004.dat\n", x, -24 * k);
+  lines += fmt::format("1 14 240 {} 0 1 0 0 0 1 0 0 0 1 3010.dat\n", -24 * 61);  // line 122
+  lines += "1 1 400 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n";
+  lines += "1 1 500 -24 0 1 0 0 0 1 0 0 0 1 3004.dat\n";
+  const auto path = scratch("columns.ldr");
+  std::ofstream(path) << "0 Two columns\n" << lines;
+  json j = check_json({path.string()}, 0);
+  ASSERT_EQ(j["structures"].size(), 3u) << j["structures"];
+  const json& weakest = j["structures"][0];
+  EXPECT_EQ(weakest["status"], "solved");
+  EXPECT_EQ(weakest["parts"], 61);
+  EXPECT_EQ(weakest["structures"], 1);
+  EXPECT_EQ(weakest["first"]["line"], 62);  // the second column's first brick
+  EXPECT_NEAR(weakest["cm_gf"].get<double>(), j["cm_gf"].get<double>(), 1e-9);
+  EXPECT_EQ(j["weakest"][0]["b"]["line"], 122);
+  std::map<int, int> structures_by_parts;
+  for (size_t k = 1; k < 3; ++k) {
+    EXPECT_LT(weakest["cm_gf"].get<double>(), j["structures"][k]["cm_gf"].get<double>());
+    structures_by_parts[j["structures"][k]["parts"].get<int>()] =
+        j["structures"][k]["structures"].get<int>();
+  }
+  EXPECT_EQ(structures_by_parts, (std::map<int, int>{{2, 2}, {60, 1}}));
+  const auto text = run_tool("brickcheck", {path.string()});
+  EXPECT_NE(text.out.find("structures solved apart: 3; the weakest 3:"), std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("one structure, 61 parts, the first columns.ldr:62 3004"),
+            std::string::npos)
+      << text.out;
+}
+
 TEST(Brickcheck, Figure7BridgesThroughTheCommandLine) {
   double previous[2] = {1e9, 1e9};
   for (int n = 1; n <= 12; ++n)

@@ -397,9 +397,40 @@ TEST(StabilityProperty, StructuresApartAreSolvedApartAlike) {
   EXPECT_GT(no_equilibrium, 0);
 }
 
+// The blocks' outcomes, weakest first (StabilityResult::blocks): structures of `block_bodies`
+// bodies or more each alone, with the C_M each has analysed by itself; smaller ones gathered.
+// Figure 7's bridges of 6 (variant a: 13 bricks) and 9 (variant b: 19 bricks), 100 studs apart,
+// and two lone bricks, with blocks of at least 10 bodies.
+TEST(StabilityProperty, StructuresSolvedApartAreRankedWeakestFirst) {
+  Assembly a;
+  const Assembly weak = test::figure7_bridge(6, 'a'), strong = test::figure7_bridge(9, 'b');
+  for (const auto& [part, dx] : {std::pair(&strong, 0), std::pair(&weak, 100)})
+    for (Brick b : part->bricks) {
+      b.min.x += dx;
+      a.bricks.push_back(b);
+    }
+  add(a, "3001", 200, 0, 0);
+  add(a, "3001", 300, 0, 0);
+  const auto r = analyze_stability(a, {.block_bodies = 10});
+  ASSERT_EQ(r.status, StabilityStatus::Solved) << r.message;
+  ASSERT_EQ(r.blocks.size(), 3u);
+  const double weak_cm = analyze_stability(weak).cm, strong_cm = analyze_stability(strong).cm;
+  EXPECT_NEAR(r.blocks[0].cm, weak_cm, 1e-6 * kT * kGravity);
+  EXPECT_EQ(r.blocks[0].bricks.size(), weak.bricks.size());
+  EXPECT_EQ(r.blocks[0].bricks.front(), int(strong.bricks.size()));
+  EXPECT_EQ(r.blocks[0].structures, 1);
+  EXPECT_NEAR(r.cm, weak_cm, 1e-6 * kT * kGravity);
+  EXPECT_NEAR(r.blocks[1].cm, strong_cm, 1e-6 * kT * kGravity);
+  EXPECT_EQ(r.blocks[1].bricks.size(), strong.bricks.size());
+  EXPECT_EQ(r.blocks[2].structures, 2);  // the lone bricks, gathered
+  EXPECT_EQ(r.blocks[2].bricks,
+            (std::vector<int>{int(a.bricks.size()) - 2, int(a.bricks.size()) - 1}));
+  EXPECT_LE(r.blocks[1].cm, r.blocks[2].cm);
+}
+
 // Large blocks solved two at a time (StabilityOptions::block_jobs, one BLAS thread each) answer as
-// one after another: three boxes of 600 bricks, 100 studs apart, and a stack beside them that
-// joins the last block, with and without blocks an earlier analysis solved.
+// one after another: three boxes of 600 bricks, 100 studs apart, and a stack beside them (a
+// small block of its own), with and without blocks an earlier analysis solved.
 TEST(StabilityProperty, LargeBlocksSolvedAtOnceAnswerAsOneAfterAnother) {
   const Assembly box = bench::hollow_box_of(600);
   Assembly a;
@@ -428,7 +459,7 @@ TEST(StabilityProperty, LargeBlocksSolvedAtOnceAnswerAsOneAfterAnother) {
       EXPECT_EQ(two.stats.iterations, one.stats.iterations);
     }
   }
-  EXPECT_EQ(solved.reused(), 3);
+  EXPECT_EQ(solved.reused(), 4);
 }
 
 // An analysis that reuses the blocks an earlier one solved (SolvedBlocks: the audit analyses a
