@@ -96,24 +96,19 @@ std::vector<EquilibriumBlock> independent_blocks(const EquilibriumSystem& sys, i
   // Large structures alone; the small ones, in the order of their first bodies, gathered into
   // blocks of at least `least_bodies` (the last one's remainder joining the one before).
   std::vector<int> bin(size.size(), 0);
-  int bins = 0, filling = -1, filled = 0;
+  int bins = 0, filling = -1, before = -1, filled = 0;  // before: the small bin filled last
   for (size_t k = 0; k < size.size(); ++k) {
     if (size[k] >= least_bodies) {
       bin[k] = bins++;
       continue;
     }
-    if (filling < 0 || filled >= least_bodies) filling = bins++, filled = 0;
+    if (filling < 0 || filled >= least_bodies) before = filling, filling = bins++, filled = 0;
     bin[k] = filling;
     filled += size[k];
   }
-  if (filled < least_bodies && filling >= 0) {  // the last small bin is short: into the one before
-    int before = -1;
-    for (size_t k = 0; k < size.size(); ++k)
-      if (size[k] < least_bodies && bin[k] != filling) before = bin[k];
-    if (before >= 0) {
-      for (int& b : bin) b = b == filling ? before : b > filling ? b - 1 : b;
-      --bins;
-    }
+  if (filled < least_bodies && before >= 0) {  // the last small bin is short: into the one before
+    for (int& b : bin) b = b == filling ? before : b > filling ? b - 1 : b;
+    --bins;
   }
   if (bins < 2) return {};
   std::vector<int> block_of(structure.size());

@@ -67,9 +67,9 @@ ContactGraphBuilder::CarriedTouches ContactGraphBuilder::carried_touches() const
   BoxIndex stud_index;
   std::vector<OrientedBox> stud_boxes;
   std::vector<int> stud_owner;
-  for (int i = 0; i < n_; ++i) {
+  for (int i = 0; i < n_ && carried > 0; ++i) {
     const auto& studs = shapes_[size_t(i)].studs;
-    if (studs.empty() || carried == 0) continue;
+    if (studs.empty()) continue;
     Box extent = stud_box(studs.front(), kKnobRimRadius);
     for (const Connector& k : studs) {
       const Box b = stud_box(k, kKnobRimRadius);

@@ -344,7 +344,7 @@ void solve_scaled_by_blocks(const EquilibriumSystem& sys, const ContactGraph& gr
       },
       [&](size_t i, StabilityResult&& part) {
         const size_t k = unsolved[i];
-        if (o.solved_blocks && part.status != StabilityStatus::Empty)
+        if (o.solved_blocks)  // keeps only what was decided
           o.solved_blocks->store(keys[k], blocks[k].system, part);
         parts[k] = std::move(part);
       });

@@ -65,7 +65,7 @@ std::vector<std::string> apply_loads(Audit& audit, const std::vector<LoadSpec>& 
   for (const LoadSpec& spec : loads) {
     std::vector<int> targets;
     for (int i = 0; i < int(assembly.bricks.size()); ++i) {
-      const auto& part = audit.model.parts[audit.conversion.brick_part[size_t(i)]];
+      const auto& part = placed_part(audit, i);
       bool hit = false;
       switch (spec.target) {
         case LoadSpec::Target::Line:
@@ -766,10 +766,14 @@ LoadSpec parse_load_spec(const std::string& text) {
   return spec;
 }
 
+const ldraw::PlacedPart& placed_part(const Audit& audit, int brick) {
+  return audit.model.parts[audit.conversion.brick_part[size_t(brick)]];
+}
+
 std::string describe_brick(const Audit& audit, int brick) {
   if (brick == physics::kGround) return "the ground";
   const Brick& b = audit.conversion.assembly.bricks[size_t(brick)];
-  const auto& pos = audit.model.parts[audit.conversion.brick_part[size_t(brick)]].transform.pos;
+  const auto& pos = placed_part(audit, brick).transform.pos;
   return fmt::format("{}:{} {} {} at ({:g}, {:g}, {:g})",
                      one_line(std::filesystem::path(b.source.file).filename().string()),
                      b.source.line, b.type->part, audit.model.color_table.name(b.color), pos[0],

@@ -118,6 +118,8 @@ struct Audit {
 Audit audit_file(const std::filesystem::path& path, const AuditOptions& options,
                  parts::PartLibrary& library);
 
+// The model's part that analysed brick `brick` is (Audit::conversion.brick_part).
+const ldraw::PlacedPart& placed_part(const Audit& audit, int brick);
 // "tower.ldr:12 3001 Red at (0, -24, 0)": how reports name a brick, with its LDraw position.
 std::string describe_brick(const Audit& audit, int brick);
 // The same for a carried part (an index into Assembly::carried).

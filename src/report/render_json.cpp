@@ -12,7 +12,7 @@ using nlohmann::json;
 json brick_json(const Audit& a, int brick) {
   if (brick == physics::kGround) return {{"ground", true}, {"part", "baseplate"}};
   const Brick& b = a.conversion.assembly.bricks[size_t(brick)];
-  const auto& pos = a.model.parts[a.conversion.brick_part[size_t(brick)]].transform.pos;
+  const auto& pos = placed_part(a, brick).transform.pos;
   return {{"file", b.source.file},
           {"line", b.source.line},
           {"part", b.type->part},
@@ -185,8 +185,7 @@ json render_json(const Audit& a, const AuditOptions& options) {
   for (const auto& b : r.blocks) {
     const bool cm = b.status == physics::StabilityStatus::Solved;
     json first = b.bricks.empty() ? json(nullptr) : brick_json(a, b.bricks.front());
-    if (!b.bricks.empty())
-      first["submodel"] = a.model.parts[a.conversion.brick_part[size_t(b.bricks.front())]].submodel;
+    if (!b.bricks.empty()) first["submodel"] = placed_part(a, b.bricks.front()).submodel;
     j["structures"].push_back({{"status", physics::to_string(b.status)},
                                {"cm_gf", number_or_null(cm, b.cm_gf())},
                                {"parts", b.bricks.size()},

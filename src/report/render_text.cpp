@@ -235,8 +235,8 @@ std::string render_text(const Audit& a, bool quiet) {
       std::string first = "-";
       if (!b.bricks.empty()) {
         first = describe_brick(a, b.bricks.front());
-        const auto& part = a.model.parts[a.conversion.brick_part[size_t(b.bricks.front())]];
-        if (!part.submodel.empty()) first += " in " + one_line(part.submodel);
+        const std::string& submodel = placed_part(a, b.bricks.front()).submodel;
+        if (!submodel.empty()) first += " in " + one_line(submodel);
       }
       line(fmt::format("    {:>16}  {}, {}, the first {}", state, what,
                        plural(b.bricks.size(), "part"), first));
