@@ -267,6 +267,14 @@ void solve_scaled(const EquilibriumSystem& sys, const ContactGraph& graph,
   rank_weakest(sys, graph, duals, r);
 }
 
+// C_M to a millionth of a gram-force, to rank structures by: identical structures solve to C_M
+// that differ in their last bits with the BLAS's thread count, which must not decide which one
+// is named weakest; equal ones rank in block order.
+long long cm_rank(double cm) {
+  return std::isfinite(cm) ? std::llround(cm / (1e-6 * kGravity))
+                           : std::numeric_limits<long long>::max();
+}
+
 // Each block's outcome, weakest first, for the report (StabilityResult::blocks).
 void ranked_blocks(const EquilibriumSystem& sys, const std::vector<EquilibriumBlock>& blocks,
                    const std::vector<StabilityResult>& parts, StabilityResult& r) {
@@ -291,7 +299,7 @@ void ranked_blocks(const EquilibriumSystem& sys, const std::vector<EquilibriumBl
   std::stable_sort(r.blocks.begin(), r.blocks.end(),
                    [&](const BlockOutcome& x, const BlockOutcome& y) {
                      if (rank(x) != rank(y)) return rank(x) < rank(y);
-                     return rank(x) == 2 && x.cm < y.cm;
+                     return rank(x) == 2 && cm_rank(x.cm) < cm_rank(y.cm);
                    });
 }
 
@@ -377,7 +385,7 @@ void solve_scaled_by_blocks(const EquilibriumSystem& sys, const ContactGraph& gr
     }
   size_t weakest = 0;
   for (size_t k = 1; k < parts.size(); ++k)
-    if (parts[k].cm < parts[weakest].cm) weakest = k;
+    if (cm_rank(parts[k].cm) < cm_rank(parts[weakest].cm)) weakest = k;
   r.status = StabilityStatus::Solved;
   r.cm = parts[weakest].cm;
   r.weakest = parts[weakest].weakest;
