@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <memory>
 #include <unordered_map>
 
@@ -30,7 +31,13 @@ struct Hasher {
     lane[0] = mix(lane[0] ^ word);
     lane[1] = mix(lane[1] + word * 0x9E3779B97F4A7C15ull);
   }
-  void add(double v) { add(std::bit_cast<uint64_t>(v)); }
+  // To a millionth of its unit (studs for lever arms, g·m/s² for weights): copies of a structure
+  // placed apart (a town's houses) have equations that differ only in the last bits their
+  // positions left, and are the same structure. A coefficient on a millionth's boundary may still
+  // round apart: such copies are solved each, as before.
+  void add(double v) {
+    add(std::abs(v) < 1e12 ? uint64_t(std::llround(v * 1e6)) : std::bit_cast<uint64_t>(v));
+  }
   template <class T>
   void add_all(const std::vector<T>& values) {
     add(uint64_t(values.size()));

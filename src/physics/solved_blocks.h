@@ -2,7 +2,8 @@
 // Blocks of equilibrium systems solved before, found again by their equations
 // (equilibrium_blocks.h): a model analysed again after a few of its parts are carried (a town
 // whose one lamp rests where it cannot stay, report/audit.cpp) solves only the structures that
-// changed. Kept for one sequence of analyses with the same options; shared by no threads.
+// changed; an analysis solves a structure placed several times (a town's copies of one house)
+// once. Kept for one sequence of analyses with the same options; shared by no threads.
 #include <array>
 #include <cstdint>
 #include <map>
@@ -17,8 +18,8 @@ struct StabilityResult;
 
 class SolvedBlocks {
  public:
-  // What identifies a block: a 128-bit hash of its equations (every coefficient, bound kind and
-  // right-hand side), not of which parts and contacts they belong to.
+  // What identifies a block: a 128-bit hash of its equations (every coefficient and right-hand
+  // side to a millionth, every bound kind), not of which parts and contacts they belong to.
   using Key = std::array<uint64_t, 2>;
   static Key key_of(const EquilibriumSystem& block);
 

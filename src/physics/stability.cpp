@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -316,46 +317,59 @@ void solve_scaled_by_blocks(const EquilibriumSystem& sys, const ContactGraph& gr
   if (blocks.empty()) return solve_scaled(sys, graph, o, r);
   const auto start = std::chrono::steady_clock::now();
   std::vector<StabilityResult> parts(blocks.size());
+  // A structure placed several times (a town's copies of one house) is solved once: its copies'
+  // equations differ only in their last bits (SolvedBlocks::key_of), and they are found in the
+  // store after the first is solved.
+  SolvedBlocks own;
+  SolvedBlocks& solved = o.solved_blocks ? *o.solved_blocks : own;
   std::vector<SolvedBlocks::Key> keys(blocks.size());
-  std::vector<size_t> unsolved;
+  std::vector<size_t> unsolved, copies;
+  std::set<SolvedBlocks::Key> first;
   for (size_t k = 0; k < blocks.size(); ++k) {
-    std::optional<StabilityResult> before;
-    if (o.solved_blocks) {
-      keys[k] = SolvedBlocks::key_of(blocks[k].system);
-      before = o.solved_blocks->find(keys[k], blocks[k].system, graph);
-    }
-    if (before)
+    keys[k] = SolvedBlocks::key_of(blocks[k].system);
+    if (auto before = solved.find(keys[k], blocks[k].system, graph))
       parts[k] = std::move(*before);
-    else
+    else if (first.insert(keys[k]).second)
       unsolved.push_back(k);
+    else
+      copies.push_back(k);
   }
-  // Large blocks two at a time, one BLAS thread each: measured on a town of 30,000 parts, one
-  // BLAS thread alone already solves faster than two (docs/scale.md), and the second core is then
-  // free for the next block. A model of one large structure keeps both BLAS threads.
-  const auto large = std::count_if(unsolved.begin(), unsolved.end(), [&](size_t k) {
-    return blocks[k].system.rows / EquilibriumSystem::kEquations >= kBodiesOfALargeBlock;
-  });
-  const int jobs = large >= 2 ? std::max(o.block_jobs, 1) : 1;
-  const OneBlasThreadEach blas_threads(jobs > 1);
   std::atomic<bool> undecided{false};  // a block the solver could not decide: solve no more
-  run_in_order<StabilityResult>(
-      unsolved.size(), jobs,
-      [&](size_t i) {
-        StabilityResult part;
-        if (undecided) return part;  // left Empty: reported after the undecided one before it
-        StabilityOptions left = o;
-        left.max_seconds = seconds_left(start, o.max_seconds);
-        solve_scaled(blocks[unsolved[i]].system, graph, left, part);
-        if (!decided(part.status) && part.status != StabilityStatus::NoEquilibrium)
-          undecided = true;
-        return part;
-      },
-      [&](size_t i, StabilityResult&& part) {
-        const size_t k = unsolved[i];
-        if (o.solved_blocks)  // keeps only what was decided
-          o.solved_blocks->store(keys[k], blocks[k].system, part);
-        parts[k] = std::move(part);
-      });
+  auto solve = [&](const std::vector<size_t>& which) {
+    // Large blocks two at a time, one BLAS thread each: measured on a town of 30,000 parts, one
+    // BLAS thread alone already solves faster than two (docs/scale.md), and the second core is
+    // then free for the next block. A model of one large structure keeps both BLAS threads.
+    const auto large = std::count_if(which.begin(), which.end(), [&](size_t k) {
+      return blocks[k].system.rows / EquilibriumSystem::kEquations >= kBodiesOfALargeBlock;
+    });
+    const int jobs = large >= 2 ? std::max(o.block_jobs, 1) : 1;
+    const OneBlasThreadEach blas_threads(jobs > 1);
+    run_in_order<StabilityResult>(
+        which.size(), jobs,
+        [&](size_t i) {
+          StabilityResult part;
+          if (undecided) return part;  // left Empty: reported after the undecided one before it
+          StabilityOptions left = o;
+          left.max_seconds = seconds_left(start, o.max_seconds);
+          solve_scaled(blocks[which[i]].system, graph, left, part);
+          if (!decided(part.status) && part.status != StabilityStatus::NoEquilibrium)
+            undecided = true;
+          return part;
+        },
+        [&](size_t i, StabilityResult&& part) {
+          const size_t k = which[i];
+          solved.store(keys[k], blocks[k].system, part);  // keeps only what was decided
+          parts[k] = std::move(part);
+        });
+  };
+  solve(unsolved);
+  std::vector<size_t> left;  // copies of a block whose outcome was not kept
+  for (size_t k : copies)
+    if (auto found = solved.find(keys[k], blocks[k].system, graph))
+      parts[k] = std::move(*found);
+    else
+      left.push_back(k);
+  solve(left);
   for (size_t k = 0; k < blocks.size(); ++k) {
     const LpStats& s = parts[k].stats;
     r.stats.rows += s.rows;

@@ -429,13 +429,13 @@ TEST(StabilityProperty, StructuresSolvedApartAreRankedWeakestFirst) {
 }
 
 // Large blocks solved two at a time (StabilityOptions::block_jobs, one BLAS thread each) answer as
-// one after another: three boxes of 600 bricks, 100 studs apart, and a stack beside them (a
-// small block of its own), with and without blocks an earlier analysis solved.
+// one after another: three boxes of 600 to 700 bricks (three structures, not copies of one),
+// 100 studs apart, and a stack beside them (a small block of its own), with and without blocks
+// an earlier analysis solved.
 TEST(StabilityProperty, LargeBlocksSolvedAtOnceAnswerAsOneAfterAnother) {
-  const Assembly box = bench::hollow_box_of(600);
   Assembly a;
   for (int k = 0; k < 3; ++k)
-    for (Brick b : box.bricks) {
+    for (Brick b : bench::hollow_box_of(600 + 50 * k).bricks) {
       b.min.x += 100 * k;
       a.bricks.push_back(b);
     }
@@ -457,6 +457,56 @@ TEST(StabilityProperty, LargeBlocksSolvedAtOnceAnswerAsOneAfterAnother) {
     EXPECT_EQ(two.stats.rows, one.stats.rows);  // iterations may differ: BLAS threads' last bits
   }
   EXPECT_EQ(solved.reused(), 4);
+}
+
+// A structure placed several times (a town's copies of one house) is solved once and each copy
+// answers as the first: three copies of Figure 7's bridge and one of a different bridge. The
+// copies' C_M are equal, their forces the first's, their weakest contacts their own, and the
+// iterations those of the two different bridges alone.
+TEST(StabilityProperty, CopiesOfAStructureAreSolvedOnce) {
+  const Assembly bridge = test::figure7_bridge(6, 'a'), other = test::figure7_bridge(9, 'b');
+  Assembly a;
+  for (int k = 0; k < 4; ++k)
+    for (Brick b : (k == 2 ? other : bridge).bricks) {
+      b.min.x += 100 * k;
+      a.bricks.push_back(b);
+    }
+  SolvedBlocks solved;
+  const auto r = analyze_stability(a, {.block_bodies = 10, .solved_blocks = &solved});
+  ASSERT_EQ(r.status, StabilityStatus::Solved) << r.message;
+  EXPECT_EQ(solved.reused(), 2);
+  const auto alone = analyze_stability(bridge), other_alone = analyze_stability(other);
+  EXPECT_EQ(r.stats.iterations, alone.stats.iterations + other_alone.stats.iterations);
+  ASSERT_EQ(r.blocks.size(), 4u);
+  const int n = int(bridge.bricks.size());
+  for (int copy : {0, 1, 3}) {
+    const auto block = std::find_if(r.blocks.begin(), r.blocks.end(), [&](const BlockOutcome& b) {
+      return b.bricks.front() == (copy == 3 ? 2 * n + int(other.bricks.size()) : copy * n);
+    });
+    ASSERT_NE(block, r.blocks.end()) << copy;
+    EXPECT_NEAR(block->cm, alone.cm, 1e-9 * kT * kGravity) << copy;
+  }
+  EXPECT_EQ(r.blocks[0].cm, r.blocks[1].cm);  // the copies, weakest, in block order
+  EXPECT_EQ(r.blocks[1].cm, r.blocks[2].cm);
+  EXPECT_LT(r.blocks[0].bricks.front(), r.blocks[1].bricks.front());
+  for (const WeakContact& w : r.weakest) {  // the first copy's
+    EXPECT_LT(w.upper, n);
+    EXPECT_LT(w.lower, n);
+  }
+}
+
+// Equations that differ in their last bits (a copy placed elsewhere, its lever arms computed
+// from other positions) have one key; equations that differ in a millionth's digit do not.
+TEST(SolvedBlocksKey, RoundsCoefficientsToAMillionth) {
+  const Assembly bridge = test::figure7_bridge(6, 'a');
+  StabilityResult r = analyze_contacts(bridge, {});
+  const EquilibriumSystem sys = build_equilibrium(bridge, r, {});
+  EquilibriumSystem nudged = sys, changed = sys;
+  for (double& v : nudged.value) v = std::nextafter(std::nextafter(v, 1e9), 1e9);
+  for (double& v : nudged.rhs) v = std::nextafter(v, -1e9);
+  changed.value[changed.value.size() / 2] += 1e-5;
+  EXPECT_EQ(SolvedBlocks::key_of(nudged), SolvedBlocks::key_of(sys));
+  EXPECT_NE(SolvedBlocks::key_of(changed), SolvedBlocks::key_of(sys));
 }
 
 // An analysis that reuses the blocks an earlier one solved (SolvedBlocks: the audit analyses a
