@@ -48,6 +48,7 @@ std::vector<EquilibriumBlock> split(const EquilibriumSystem& sys, const std::vec
     if (block_of[b] < 0) continue;
     EquilibriumBlock& block = blocks[size_t(block_of[b])];
     index_in_block[b] = block.system.rows / kEquations;
+    block.system.brick_of_body.push_back(sys.brick_of_body[b]);
     for (int e = 0; e < kEquations; ++e) {
       block.rows.push_back(EquilibriumSystem::row(int(b), e));
       block.system.rhs.push_back(sys.rhs[size_t(EquilibriumSystem::row(int(b), e))]);
@@ -78,10 +79,6 @@ std::vector<EquilibriumBlock> split(const EquilibriumSystem& sys, const std::vec
     if (local_column[size_t(c)] >= 0)
       blocks[size_t(block_of[size_t(std::max(body_of_column(sys, c), 0))])]
           .system.turning_columns.push_back(local_column[size_t(c)]);
-  for (EquilibriumBlock& block : blocks) block.system.body_of.assign(sys.body_of.size(), -1);
-  for (size_t brick = 0; brick < sys.body_of.size(); ++brick)
-    if (const int b = sys.body_of[brick]; b >= 0 && block_of[size_t(b)] >= 0)
-      blocks[size_t(block_of[size_t(b)])].system.body_of[brick] = index_in_block[size_t(b)];
   return blocks;
 }
 

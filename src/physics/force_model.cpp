@@ -129,8 +129,10 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
   s.body_of.assign(size_t(n), -1);
   int bodies = 0;
   for (int i = 0; i < n; ++i)
-    if (!floating[size_t(i)] && (g.fixed.empty() || !g.fixed[size_t(i)]))
+    if (!floating[size_t(i)] && (g.fixed.empty() || !g.fixed[size_t(i)])) {
       s.body_of[size_t(i)] = bodies++;
+      s.brick_of_body.push_back(i);
+    }
   s.rows = EquilibriumSystem::kEquations * bodies;
   // Each body's centre (studs).
   std::vector<Vec3> brick_centre(static_cast<size_t>(n)),

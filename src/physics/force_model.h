@@ -40,7 +40,11 @@ struct EquilibriumSystem {
   std::vector<ForceKind> kind;  // per column
   std::vector<int> contact;     // per column: index into ContactGraph::contacts
   std::vector<double> rhs;      // b, per row
-  std::vector<int> body_of;     // per brick: its block of rows, -1 when it has none
+  // Per brick of the assembly: its body (block of rows), -1 when it has none. Empty in a block of
+  // the system (equilibrium_blocks.h): a town's hundreds of blocks would each hold a map as long
+  // as the town.
+  std::vector<int> body_of;
+  std::vector<int> brick_of_body;  // per body: its brick (ascending)
 
   int columns() const { return int(kind.size()); }
   int friction_columns = 0;

@@ -77,10 +77,7 @@ std::optional<StabilityResult> SolvedBlocks::find(const Key& key, const Equilibr
     r.weakest.push_back({contact, graph.contacts[size_t(contact)].lower,
                          graph.contacts[size_t(contact)].upper, o.weakest_shares[k]});
   }
-  for (size_t brick = 0; brick < block.body_of.size(); ++brick)
-    if (std::binary_search(o.unbalanced_bodies.begin(), o.unbalanced_bodies.end(),
-                           block.body_of[brick]))
-      r.unbalanced.push_back(int(brick));
+  for (int body : o.unbalanced_bodies) r.unbalanced.push_back(block.brick_of_body[size_t(body)]);
   r.stats.iterations = 0;  // nothing solved
   ++reused_;
   return r;
@@ -102,7 +99,10 @@ void SolvedBlocks::store(const Key& key, const EquilibriumSystem& block,
     o->weakest_columns.push_back(column->second);
     o->weakest_shares.push_back(w.share);
   }
-  for (int brick : outcome.unbalanced) o->unbalanced_bodies.push_back(block.body_of[size_t(brick)]);
+  const auto& bricks = block.brick_of_body;
+  for (int brick : outcome.unbalanced)
+    o->unbalanced_bodies.push_back(
+        int(std::lower_bound(bricks.begin(), bricks.end(), brick) - bricks.begin()));
   std::sort(o->unbalanced_bodies.begin(), o->unbalanced_bodies.end());
   solved_[key] = std::move(o);
 }

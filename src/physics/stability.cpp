@@ -174,9 +174,7 @@ void set_no_equilibrium(const EquilibriumSystem& sys, const std::vector<int>& bo
                         StabilityResult& r) {
   r.status = StabilityStatus::NoEquilibrium;
   r.message = "no force distribution balances every brick";
-  for (size_t i = 0; i < sys.body_of.size(); ++i)
-    if (std::binary_search(bodies.begin(), bodies.end(), sys.body_of[i]))
-      r.unbalanced.push_back(int(i));
+  for (int body : bodies) r.unbalanced.push_back(sys.brick_of_body[size_t(body)]);
 }
 
 void set_failure(StabilityResult& r, const LpSolution& s) {
