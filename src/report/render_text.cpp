@@ -84,27 +84,28 @@ std::string verdict_reason(const Audit& a) {
   return why;
 }
 
-}  // namespace
-
-std::string render_text(const Audit& a, bool quiet) {
+// The report's lines, each ended by a newline.
+struct Lines {
   std::string out;
-  auto line = [&](const std::string& s) { out += s + "\n"; };
-  const auto& assembly = a.conversion.assembly;
-  line(fmt::format("{}: {}: {}", one_line(a.file), verdict_word(a), verdict_reason(a)));
-  if (quiet || a.verdict == Verdict::Unreadable || !a.out_of_time.empty() ||
-      !a.out_of_memory.empty())
-    return out;
-  if (!a.assumptions.deciding.empty() || a.assumptions.joints_checked) {
-    line(fmt::format("  assumptions that can change the verdict ({}):",
-                     a.assumptions.deciding.size()));
-    const auto& deciding = a.assumptions.deciding;
-    for (size_t i = 0; i < deciding.size() && i < 20; ++i) line("    " + deciding[i].text);
-    if (deciding.size() > 20) line(fmt::format("    and {} more", deciding.size() - 20));
-    if (a.assumptions.joints_checked && a.assumptions.deciding.empty())
-      line(fmt::format("    none: the {} rigid joints are not needed ({})",
-                       a.assumptions.rigid_joints, a.assumptions.without_joints));
-  }
+  void operator()(const std::string& s) { out += s + "\n"; }
+};
 
+// What the verdict rests on that can change it (all of it under --strict).
+void assumptions_section(const Audit& a, Lines& line) {
+  if (a.assumptions.deciding.empty() && !a.assumptions.joints_checked) return;
+  line(fmt::format("  assumptions that can change the verdict ({}):",
+                   a.assumptions.deciding.size()));
+  const auto& deciding = a.assumptions.deciding;
+  for (size_t i = 0; i < deciding.size() && i < 20; ++i) line("    " + deciding[i].text);
+  if (deciding.size() > 20) line(fmt::format("    and {} more", deciding.size() - 20));
+  if (a.assumptions.joints_checked && a.assumptions.deciding.empty())
+    line(fmt::format("    none: the {} rigid joints are not needed ({})",
+                     a.assumptions.rigid_joints, a.assumptions.without_joints));
+}
+
+// What became of each placed part (analysed, carried, left out), what reading said, the loads.
+void parts_section(const Audit& a, Lines& line) {
+  const auto& assembly = a.conversion.assembly;
   for (const auto& d : a.model.diagnostics) line("  " + d.text());
   for (const auto& d : a.conversion.diagnostics) line("  " + d.text());
   const auto& parts = a.model.parts;
@@ -129,8 +130,11 @@ std::string render_text(const Audit& a, bool quiet) {
     line(fmt::format("  left out {}:{} {}: {}", p.file, p.line, p.reference, s.reason));
   }
   for (const auto& note : a.load_notes) line("  load: " + note);
-  if (a.verdict == Verdict::NothingToAnalyse) return out;
+}
 
+// The joints the analysis takes as rigid: through carried parts, and where parts touch with
+// nothing modelled between them (the first 20 of each kind).
+void assumed_joints_section(const Audit& a, Lines& line) {
   const auto& r = a.stability;
   for (const auto& group : r.graph.carried_groups) {
     if (!group.assumed_joint()) continue;
@@ -139,7 +143,6 @@ std::string render_text(const Audit& a, bool quiet) {
     line("  assumed rigid joint through " + by + ":");
     for (int b : group.joins) line("    " + describe_brick(a, b));
   }
-  // Assumed joints where two parts touch with nothing modelled between them: the first 20.
   auto touching = [&](const std::vector<int>& joints, const std::string& where) {
     if (joints.empty()) return;
     line(fmt::format("  assumed rigid {} where {}:", plural(joints.size(), "joint"), where));
@@ -152,6 +155,13 @@ std::string render_text(const Audit& a, bool quiet) {
   touching(r.graph.lattice_joints,
            "parts of two lattices touch (parts placed at an angle, analysed in their own frame)");
   touching(r.graph.pivot_joints, "hinge or turntable halves touch without a line they share");
+}
+
+// What reaches the ground, and when no forces hold the model: whether it tips over, which joints
+// turn, which parts nothing holds; parts drawn twice in one place.
+void connectivity_section(const Audit& a, Lines& line) {
+  const auto& assembly = a.conversion.assembly;
+  const auto& r = a.stability;
   const auto& c = r.connectivity;
   int grounded = 0;
   for (char g : c.grounded) grounded += g;
@@ -208,58 +218,73 @@ std::string render_text(const Audit& a, bool quiet) {
       line(fmt::format("    duplicated parts: {} and {}", describe_brick(a, x),
                        describe_brick(a, y)));
   }
-  if (r.status == physics::StabilityStatus::Solved) {
-    line(fmt::format(
-        "  stability: C_M = {:.3f} gf = {:.4f} N (maximum friction load T = 71.658 gf per point)",
-        r.cm_gf(), r.cm_newton()));
-    size_t shown = std::min<size_t>(r.weakest.size(), 5);
-    if (shown) line("  weakest contacts (share of the binding duals):");
-    for (size_t i = 0; i < shown; ++i) {
-      const auto& w = r.weakest[i];
-      line(fmt::format("    {:5.1f}%  {} holding {}", 100 * w.share, describe_brick(a, w.lower),
-                       describe_brick(a, w.upper)));
-    }
-    if (!shown) line("  no contact needs friction: the model stands on its normal forces alone");
-    if (!r.message.empty()) line("  solver: " + r.stats.solver + " (" + r.message + ")");
+}
+
+// C_M and the contacts that limit it.
+void stability_section(const Audit& a, Lines& line) {
+  const auto& r = a.stability;
+  if (r.status != physics::StabilityStatus::Solved) return;
+  line(fmt::format(
+      "  stability: C_M = {:.3f} gf = {:.4f} N (maximum friction load T = 71.658 gf per point)",
+      r.cm_gf(), r.cm_newton()));
+  size_t shown = std::min<size_t>(r.weakest.size(), 5);
+  if (shown) line("  weakest contacts (share of the binding duals):");
+  for (size_t i = 0; i < shown; ++i) {
+    const auto& w = r.weakest[i];
+    line(fmt::format("    {:5.1f}%  {} holding {}", 100 * w.share, describe_brick(a, w.lower),
+                     describe_brick(a, w.upper)));
   }
-  if (r.blocks.size() > 1) {
-    const size_t shown = std::min<size_t>(r.blocks.size(), 5);
-    line(fmt::format("  structures solved apart: {}; the weakest {}:", r.blocks.size(), shown));
-    for (size_t i = 0; i < shown; ++i) {
-      const physics::BlockOutcome& b = r.blocks[i];
-      const std::string state = b.status == physics::StabilityStatus::Solved
-                                    ? fmt::format("{:.3f} gf", b.cm_gf())
-                                    : std::string(physics::to_string(b.status));
-      const std::string what =
-          b.structures > 1 ? fmt::format("{} small structures", b.structures) : "one structure";
-      std::string first = "-";
-      if (!b.bricks.empty()) {
-        first = describe_brick(a, b.bricks.front());
-        const std::string& submodel = placed_part(a, b.bricks.front()).submodel;
-        if (!submodel.empty()) first += " in " + one_line(submodel);
-      }
-      line(fmt::format("    {:>16}  {}, {}, the first {}", state, what,
-                       plural(b.bricks.size(), "part"), first));
+  if (!shown) line("  no contact needs friction: the model stands on its normal forces alone");
+  if (!r.message.empty()) line("  solver: " + r.stats.solver + " (" + r.message + ")");
+}
+
+// The independent structures solved apart (a town's buildings), the weakest five.
+void structures_section(const Audit& a, Lines& line) {
+  const auto& r = a.stability;
+  if (r.blocks.size() <= 1) return;
+  const size_t shown = std::min<size_t>(r.blocks.size(), 5);
+  line(fmt::format("  structures solved apart: {}; the weakest {}:", r.blocks.size(), shown));
+  for (size_t i = 0; i < shown; ++i) {
+    const physics::BlockOutcome& b = r.blocks[i];
+    const std::string state = b.status == physics::StabilityStatus::Solved
+                                  ? fmt::format("{:.3f} gf", b.cm_gf())
+                                  : std::string(physics::to_string(b.status));
+    const std::string what =
+        b.structures > 1 ? fmt::format("{} small structures", b.structures) : "one structure";
+    std::string first = "-";
+    if (!b.bricks.empty()) {
+      first = describe_brick(a, b.bricks.front());
+      const std::string& submodel = placed_part(a, b.bricks.front()).submodel;
+      if (!submodel.empty()) first += " in " + one_line(submodel);
     }
+    line(fmt::format("    {:>16}  {}, {}, the first {}", state, what,
+                     plural(b.bricks.size(), "part"), first));
   }
-  if (!a.steps.empty()) {
-    line("  build steps:");
-    for (const auto& s : a.steps) {
-      std::string state =
-          s.status != physics::StabilityStatus::Solved ? std::string(physics::to_string(s.status))
-          : s.certified ? fmt::format("stands (certified C_M >= {:.3f} gf)", s.cm_gf)
-                        : fmt::format("C_M = {:9.3f} gf", s.cm_gf);
-      if (s.floating) state += fmt::format(", {} floating", plural(size_t(s.floating), "part"));
-      if (s.apart)
-        state += fmt::format(", {} of a sub-assembly built apart (judged alone on the table)",
-                             plural(size_t(s.aside), "part"));
-      else if (s.aside)
-        state += fmt::format(", {} built aside (a sub-assembly, set in place later)",
-                             plural(size_t(s.aside), "part"));
-      line(fmt::format("    step {:3}: {:5} bricks  {}{}", s.step, s.bricks, state,
-                       s.stable ? "" : "  <- does not stand: " + s.why));
-    }
+}
+
+// Each build step's C_M or certificate, and why a step does not stand.
+void steps_section(const Audit& a, Lines& line) {
+  if (a.steps.empty()) return;
+  line("  build steps:");
+  for (const auto& s : a.steps) {
+    std::string state = s.status != physics::StabilityStatus::Solved
+                            ? std::string(physics::to_string(s.status))
+                        : s.certified ? fmt::format("stands (certified C_M >= {:.3f} gf)", s.cm_gf)
+                                      : fmt::format("C_M = {:9.3f} gf", s.cm_gf);
+    if (s.floating) state += fmt::format(", {} floating", plural(size_t(s.floating), "part"));
+    if (s.apart)
+      state += fmt::format(", {} of a sub-assembly built apart (judged alone on the table)",
+                           plural(size_t(s.aside), "part"));
+    else if (s.aside)
+      state += fmt::format(", {} built aside (a sub-assembly, set in place later)",
+                           plural(size_t(s.aside), "part"));
+    line(fmt::format("    step {:3}: {:5} bricks  {}{}", s.step, s.bricks, state,
+                     s.stable ? "" : "  <- does not stand: " + s.why));
   }
+}
+
+void time_section(const Audit& a, Lines& line) {
+  const auto& r = a.stability;
   line(fmt::format(
       "  time: parse {:.3f} s, parts {:.3f} s, graph {:.3f} s, build LP {:.3f} s, "
       "solve {:.3f} s ({} rows, {} columns){}",
@@ -270,7 +295,26 @@ std::string render_text(const Audit& a, bool quiet) {
                                    "lattice that nothing holds)",
                                    a.analyses)
                      : ""));
-  return out;
+}
+
+}  // namespace
+
+std::string render_text(const Audit& a, bool quiet) {
+  Lines line;
+  line(fmt::format("{}: {}: {}", one_line(a.file), verdict_word(a), verdict_reason(a)));
+  if (quiet || a.verdict == Verdict::Unreadable || !a.out_of_time.empty() ||
+      !a.out_of_memory.empty())
+    return line.out;
+  assumptions_section(a, line);
+  parts_section(a, line);
+  if (a.verdict == Verdict::NothingToAnalyse) return line.out;
+  assumed_joints_section(a, line);
+  connectivity_section(a, line);
+  stability_section(a, line);
+  structures_section(a, line);
+  steps_section(a, line);
+  time_section(a, line);
+  return line.out;
 }
 
 }  // namespace lego::report
