@@ -34,35 +34,9 @@ json number_or_null(bool valid, double v) {
   return valid ? json(v) : json(nullptr);
 }
 
-}  // namespace
-
-json render_json(const Audit& a, const AuditOptions& options) {
-  const auto& r = a.stability;
-  const bool solved = r.status == physics::StabilityStatus::Solved;
-  json j;
-  j["file"] = a.file;
-  j["verdict"] = a.verdict == Verdict::Stable               ? "stable"
-                 : a.verdict == Verdict::Unstable           ? "unstable"
-                 : a.verdict == Verdict::Undecided          ? "undecided"
-                 : a.verdict == Verdict::NothingToAnalyse   ? "nothing-to-analyse"
-                 : a.verdict == Verdict::NotJudged          ? "not-judged"
-                 : a.verdict == Verdict::StableByAssumption ? "stable-by-assumption"
-                                                            : "unreadable";
-  j["stable"] = a.stable();
-  if (a.verdict == Verdict::Unreadable) {
-    j["error"] = a.fatal;
-    return j;
-  }
-  if (!a.out_of_time.empty()) {  // nothing else is complete
-    j["status"] = "out of time";
-    j["out_of_time"] = a.out_of_time;
-    return j;
-  }
-  if (!a.out_of_memory.empty()) {
-    j["status"] = "out of memory";
-    j["out_of_memory"] = a.out_of_memory;
-    return j;
-  }
+// What became of the placed parts: counts, carried and left-out parts, part kinds learnt from
+// the library, and what reading said.
+void parts_json(const Audit& a, json& j) {
   j["title"] = a.model.title;
   j["main_model"] = a.model.main_block;
   j["parts"] = a.model.parts.size();
@@ -106,6 +80,11 @@ json render_json(const Audit& a, const AuditOptions& options) {
          {"file", d.file},
          {"line", d.line},
          {"message", d.message}});
+}
+
+// The ground, what reaches it, and the joints taken as rigid or turning.
+void connections_json(const Audit& a, const AuditOptions& options, json& j) {
+  const auto& r = a.stability;
   j["ground"] = options.stability.ground == physics::GroundMode::Table ? "table" : "baseplate";
   j["components"] = r.connectivity.component_count;
   j["touches_ground"] = !r.connectivity.grounded.empty() &&
@@ -135,6 +114,25 @@ json render_json(const Audit& a, const AuditOptions& options) {
         {{"through", json::array()},
          {"joins", json::array({brick_json(a, c.lower), brick_json(a, c.upper)})}});
   }
+  j["technic_joints"] = json::array();
+  for (int k : r.graph.shaft_joints) {
+    const auto& c = r.graph.contacts[size_t(k)];
+    j["technic_joints"].push_back(
+        {{"kind", c.joint_kind == physics::Contact::Kind::Holds ? "holds" : "turns"},
+         {"a", brick_json(a, c.lower)},
+         {"b", brick_json(a, c.upper)}});
+  }
+  j["turning"] = json::array();
+  for (const auto& [k, moment] : r.turning) {
+    const auto& c = r.graph.contacts[size_t(k)];
+    j["turning"].push_back({{"a", brick_json(a, c.lower)},
+                            {"b", brick_json(a, c.upper)},
+                            {"moment_gf_stud", moment / physics::kGravity}});
+  }
+}
+
+// What the verdict rests on (report/assumptions.h), and --strict's judgement of it.
+void assumptions_json(const Audit& a, const AuditOptions& options, json& j) {
   const Assumptions& as = a.assumptions;
   json deciding = json::array();
   for (const Assumption& d : as.deciding)
@@ -154,21 +152,12 @@ json render_json(const Audit& a, const AuditOptions& options) {
                       {"deciding", deciding}};
   if (options.strict)
     j["strict"] = {{"passes", a.verdict == Verdict::Stable}, {"reasons", deciding}};
-  j["technic_joints"] = json::array();
-  for (int k : r.graph.shaft_joints) {
-    const auto& c = r.graph.contacts[size_t(k)];
-    j["technic_joints"].push_back(
-        {{"kind", c.joint_kind == physics::Contact::Kind::Holds ? "holds" : "turns"},
-         {"a", brick_json(a, c.lower)},
-         {"b", brick_json(a, c.upper)}});
-  }
-  j["turning"] = json::array();
-  for (const auto& [k, moment] : r.turning) {
-    const auto& c = r.graph.contacts[size_t(k)];
-    j["turning"].push_back({{"a", brick_json(a, c.lower)},
-                            {"b", brick_json(a, c.upper)},
-                            {"moment_gf_stud", moment / physics::kGravity}});
-  }
+}
+
+// The analysis: status, C_M, the weakest contacts, the structures solved apart, the LP.
+void stability_json(const Audit& a, const AuditOptions& options, json& j) {
+  const auto& r = a.stability;
+  const bool solved = r.status == physics::StabilityStatus::Solved;
   j["status"] = physics::to_string(r.status);
   j["tips_over"] = r.graph.tips_over;
   j["ground_slope"] = {r.graph.ground_slope[0], r.graph.ground_slope[1]};
@@ -192,28 +181,6 @@ json render_json(const Audit& a, const AuditOptions& options) {
                                {"structures", b.structures},
                                {"first", first}});
   }
-  if (options.steps) {
-    j["steps"] = json::array();
-    for (const auto& s : a.steps) {
-      json culprits = json::array();
-      for (int b : s.culprits) culprits.push_back(brick_json(a, b));
-      for (int c : s.carried_culprits) culprits.push_back(carried_json(a, c));
-      j["steps"].push_back(
-          {{"step", s.step},
-           {"bricks", s.bricks},
-           {"stable", s.stable},
-           {"status", physics::to_string(s.status)},
-           {"floating", s.floating},
-           {"cm_gf", number_or_null(s.status == physics::StabilityStatus::Solved, s.cm_gf)},
-           {"certified", s.certified},
-           {"aside_parts", s.aside},
-           {"apart", s.apart},
-           {"why", s.stable ? json(nullptr) : json(s.why)},
-           {"parts", culprits}});
-    }
-    j["first_failing_step"] = a.first_failing_step ? json(*a.first_failing_step) : json(nullptr);
-    j["unchecked_from_step"] = a.unchecked_from_step ? json(*a.unchecked_from_step) : json(nullptr);
-  }
   j["lp"] = {{"rows", r.stats.rows},
              {"columns", r.stats.columns},
              {"nonzeros", r.stats.nonzeros},
@@ -226,6 +193,64 @@ json render_json(const Audit& a, const AuditOptions& options) {
   j["timing"] = {{"parse", a.parse_seconds},       {"parts", a.parts_seconds},
                  {"graph", r.stats.graph_seconds}, {"build", r.stats.build_seconds},
                  {"solve", r.stats.solve_seconds}, {"capacity", r.stats.capacity_seconds}};
+}
+
+// With --steps: each build step, and the first that does not stand.
+void steps_json(const Audit& a, json& j) {
+  j["steps"] = json::array();
+  for (const auto& s : a.steps) {
+    json culprits = json::array();
+    for (int b : s.culprits) culprits.push_back(brick_json(a, b));
+    for (int c : s.carried_culprits) culprits.push_back(carried_json(a, c));
+    j["steps"].push_back(
+        {{"step", s.step},
+         {"bricks", s.bricks},
+         {"stable", s.stable},
+         {"status", physics::to_string(s.status)},
+         {"floating", s.floating},
+         {"cm_gf", number_or_null(s.status == physics::StabilityStatus::Solved, s.cm_gf)},
+         {"certified", s.certified},
+         {"aside_parts", s.aside},
+         {"apart", s.apart},
+         {"why", s.stable ? json(nullptr) : json(s.why)},
+         {"parts", culprits}});
+  }
+  j["first_failing_step"] = a.first_failing_step ? json(*a.first_failing_step) : json(nullptr);
+  j["unchecked_from_step"] = a.unchecked_from_step ? json(*a.unchecked_from_step) : json(nullptr);
+}
+
+}  // namespace
+
+json render_json(const Audit& a, const AuditOptions& options) {
+  json j;
+  j["file"] = a.file;
+  j["verdict"] = a.verdict == Verdict::Stable               ? "stable"
+                 : a.verdict == Verdict::Unstable           ? "unstable"
+                 : a.verdict == Verdict::Undecided          ? "undecided"
+                 : a.verdict == Verdict::NothingToAnalyse   ? "nothing-to-analyse"
+                 : a.verdict == Verdict::NotJudged          ? "not-judged"
+                 : a.verdict == Verdict::StableByAssumption ? "stable-by-assumption"
+                                                            : "unreadable";
+  j["stable"] = a.stable();
+  if (a.verdict == Verdict::Unreadable) {
+    j["error"] = a.fatal;
+    return j;
+  }
+  if (!a.out_of_time.empty()) {  // nothing else is complete
+    j["status"] = "out of time";
+    j["out_of_time"] = a.out_of_time;
+    return j;
+  }
+  if (!a.out_of_memory.empty()) {
+    j["status"] = "out of memory";
+    j["out_of_memory"] = a.out_of_memory;
+    return j;
+  }
+  parts_json(a, j);
+  connections_json(a, options, j);
+  assumptions_json(a, options, j);
+  stability_json(a, options, j);
+  if (options.steps) steps_json(a, j);
   return j;
 }
 
