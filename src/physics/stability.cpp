@@ -270,8 +270,8 @@ void solve_scaled(const EquilibriumSystem& sys, const ContactGraph& graph,
 // that differ in their last bits with the BLAS's thread count, which must not decide which one
 // is named weakest; equal ones rank in block order.
 long long cm_rank(double cm) {
-  return std::isfinite(cm) ? std::llround(cm / (1e-6 * kGravity))
-                           : std::numeric_limits<long long>::max();
+  const double millionths = std::clamp(cm / (1e-6 * kGravity), -9e18, 9e18);  // inf too
+  return std::isnan(millionths) ? std::numeric_limits<long long>::max() : std::llround(millionths);
 }
 
 // Each block's outcome, weakest first, for the report (StabilityResult::blocks).
