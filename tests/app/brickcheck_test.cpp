@@ -1358,6 +1358,32 @@ TEST(BrickcheckCorpus, StepsAreTheSameWhateverTheTiming) {
   }
 }
 
+// Checked one at a time or two at once, a model gets the same report: four corpus models whose
+// weakest contacts include equally weak ones (the chapel's two 50% ones, the fighter jet's four
+// of 19.2%) listed them in another order under -j 1 when the BLAS took two threads there.
+TEST(BrickcheckCorpus, OneAtATimeOrTwoAtOnceReportAlike) {
+  SKIP_WITHOUT_SHARED();
+  const fs::path datsville = test::shared_dir() / "ldraw-corpus" / "datsville";
+  const std::string library = (test::shared_dir() / "ldraw-library").string();
+  std::vector<std::string> models;
+  for (const char* name :
+       {"building_008_roundpolicebuilding.ldr", "building_025_greenroofhouse.ldr",
+        "building_094_chapel.ldr", "vehicle_084_yellowfighterjet.mpd"})
+    models.push_back((datsville / name).string());
+  auto report = [&](const char* jobs) {
+    std::vector<std::string> args{"-j", jobs, "--ldraw-dir", library};
+    args.insert(args.end(), models.begin(), models.end());
+    std::string text;
+    std::istringstream lines(run_tool("brickcheck", args).out);
+    for (std::string line; std::getline(lines, line);)
+      if (!line.starts_with("  time:")) text += line + "\n";
+    return text;
+  };
+  const std::string one = report("1");
+  EXPECT_NE(one.find("weakest contacts"), std::string::npos) << one;
+  EXPECT_EQ(report("2"), one);
+}
+
 // Real buildings the interior point method once crawled through (docs/stability-lp.md,
 // 2026-12-01): the safe house needs no friction at all (C_M = T) and took 242 iterations, the fire
 // company 119 with μ long vanished; the mosque was "solved" with C_M = -inf, then had no
