@@ -302,6 +302,58 @@ void ranked_blocks(const EquilibriumSystem& sys, const std::vector<EquilibriumBl
                    });
 }
 
+// The blocks' outcomes as the model's (solve_scaled_by_blocks): the LP stats summed up to the
+// first block left undecided, no equilibrium where any block has none (their bodies named
+// together), else the weakest block's C_M, weakest contacts and duals, and every block's forces.
+void combine_blocks(const EquilibriumSystem& sys, const std::vector<EquilibriumBlock>& blocks,
+                    const std::vector<StabilityResult>& parts, StabilityResult& r) {
+  for (size_t k = 0; k < blocks.size(); ++k) {
+    const LpStats& s = parts[k].stats;
+    r.stats.rows += s.rows;
+    r.stats.columns += s.columns;
+    r.stats.nonzeros += s.nonzeros;
+    r.stats.iterations += s.iterations;
+    if (r.stats.solver.empty() || s.solver != r.stats.solver) r.stats.solver = s.solver;
+    if (!decided(parts[k].status) && parts[k].status != StabilityStatus::NoEquilibrium) break;
+  }
+  ranked_blocks(sys, blocks, parts, r);
+  for (const StabilityResult& part : parts)
+    if (part.status == StabilityStatus::NoEquilibrium) {
+      if (r.status != StabilityStatus::NoEquilibrium) r.message = part.message;
+      r.status = StabilityStatus::NoEquilibrium;
+      r.unbalanced.insert(r.unbalanced.end(), part.unbalanced.begin(), part.unbalanced.end());
+    }
+  if (r.status == StabilityStatus::NoEquilibrium) {
+    std::sort(r.unbalanced.begin(), r.unbalanced.end());
+    return;
+  }
+  for (const StabilityResult& part : parts)
+    if (part.status != StabilityStatus::Solved) {
+      r.status =
+          part.status == StabilityStatus::Empty ? StabilityStatus::NumericalTrouble : part.status;
+      r.message = part.message;
+      return;
+    }
+  size_t weakest = 0;
+  for (size_t k = 1; k < parts.size(); ++k)
+    if (cm_rank(parts[k].cm) < cm_rank(parts[weakest].cm)) weakest = k;
+  r.status = StabilityStatus::Solved;
+  r.cm = parts[weakest].cm;
+  r.weakest = parts[weakest].weakest;
+  // Forces for every column, or none: a block that needs no friction has none of its own.
+  const bool all_forces = std::all_of(parts.begin(), parts.end(),
+                                      [](const StabilityResult& p) { return !p.forces.empty(); });
+  if (!all_forces) return;
+  r.forces.assign(size_t(sys.columns()), 0);
+  for (size_t k = 0; k < parts.size(); ++k)
+    for (size_t j = 0; j < blocks[k].columns.size(); ++j)
+      r.forces[size_t(blocks[k].columns[j])] = parts[k].forces[j];
+  r.row_duals.assign(size_t(sys.rows), 0);
+  const auto& duals = parts[weakest].row_duals;
+  for (size_t i = 0; i < blocks[weakest].rows.size() && i < duals.size(); ++i)
+    r.row_duals[size_t(blocks[weakest].rows[i])] = duals[i];
+}
+
 // A block of this many bodies or more is worth a thread of its own (solve_scaled_by_blocks).
 constexpr int kBodiesOfALargeBlock = 500;
 
@@ -368,51 +420,7 @@ void solve_scaled_by_blocks(const EquilibriumSystem& sys, const ContactGraph& gr
     else
       left.push_back(k);
   solve(left);
-  for (size_t k = 0; k < blocks.size(); ++k) {
-    const LpStats& s = parts[k].stats;
-    r.stats.rows += s.rows;
-    r.stats.columns += s.columns;
-    r.stats.nonzeros += s.nonzeros;
-    r.stats.iterations += s.iterations;
-    if (r.stats.solver.empty() || s.solver != r.stats.solver) r.stats.solver = s.solver;
-    if (!decided(parts[k].status) && parts[k].status != StabilityStatus::NoEquilibrium) break;
-  }
-  ranked_blocks(sys, blocks, parts, r);
-  for (const StabilityResult& part : parts)
-    if (part.status == StabilityStatus::NoEquilibrium) {
-      if (r.status != StabilityStatus::NoEquilibrium) r.message = part.message;
-      r.status = StabilityStatus::NoEquilibrium;
-      r.unbalanced.insert(r.unbalanced.end(), part.unbalanced.begin(), part.unbalanced.end());
-    }
-  if (r.status == StabilityStatus::NoEquilibrium) {
-    std::sort(r.unbalanced.begin(), r.unbalanced.end());
-    return;
-  }
-  for (const StabilityResult& part : parts)
-    if (part.status != StabilityStatus::Solved) {
-      r.status =
-          part.status == StabilityStatus::Empty ? StabilityStatus::NumericalTrouble : part.status;
-      r.message = part.message;
-      return;
-    }
-  size_t weakest = 0;
-  for (size_t k = 1; k < parts.size(); ++k)
-    if (cm_rank(parts[k].cm) < cm_rank(parts[weakest].cm)) weakest = k;
-  r.status = StabilityStatus::Solved;
-  r.cm = parts[weakest].cm;
-  r.weakest = parts[weakest].weakest;
-  // Forces for every column, or none: a block that needs no friction has none of its own.
-  const bool all_forces = std::all_of(parts.begin(), parts.end(),
-                                      [](const StabilityResult& p) { return !p.forces.empty(); });
-  if (!all_forces) return;
-  r.forces.assign(size_t(sys.columns()), 0);
-  for (size_t k = 0; k < parts.size(); ++k)
-    for (size_t j = 0; j < blocks[k].columns.size(); ++j)
-      r.forces[size_t(blocks[k].columns[j])] = parts[k].forces[j];
-  r.row_duals.assign(size_t(sys.rows), 0);
-  const auto& duals = parts[weakest].row_duals;
-  for (size_t i = 0; i < blocks[weakest].rows.size() && i < duals.size(); ++i)
-    r.row_duals[size_t(blocks[weakest].rows[i])] = duals[i];
+  combine_blocks(sys, blocks, parts, r);
 }
 
 void solve_max_min(const EquilibriumSystem& sys, const StabilityOptions& o, StabilityResult& r) {
