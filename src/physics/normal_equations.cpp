@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <mutex>
 #include <numeric>
 
@@ -53,6 +54,17 @@ void serialize_openmp_regions() {
     using Set = void (*)(int);
     if (auto set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"))) set(0);
   });
+}
+
+// METIS (5.1, as Debian builds it) keeps its random number generator in process-wide state that
+// each call seeds at its start: two orders computed at once (brickcheck -j 2, a town's structures
+// two at a time) draw from one stream, and each order then depended on the other's timing. With
+// another order the roundoff differs, and on the corpus's rocket sculpture the dependent rows'
+// pivots went unseen in one run of ten under -j 2 (no equilibrium, where C_M is 71.5 gf). One
+// METIS call at a time: every order is the one a single thread gets.
+std::unique_lock<std::mutex> metis_turn(int ordering) {
+  static std::mutex mutex;
+  return ordering == CHOLMOD_METIS ? std::unique_lock(mutex) : std::unique_lock<std::mutex>();
 }
 
 // Rows of A that are (numerically) combinations of others: with rows scaled to unit length, a
@@ -214,7 +226,10 @@ std::vector<char> dependent_rows(const SpMat& A) {
   cholmod_sparse view = Eigen::viewAsCholmod(lower);
   view.stype = -1;
   auto t0 = std::chrono::steady_clock::now();
-  cholmod_factor* factor = cholmod_analyze(&view, &common);
+  cholmod_factor* factor = [&] {
+    const auto turn = metis_turn(common.method[0].ordering);
+    return cholmod_analyze(&view, &common);
+  }();
   auto t1 = std::chrono::steady_clock::now();
   double shift[2] = {1e-12, 0};
   bool ok = factor && cholmod_factorize_p(&view, shift, nullptr, 0, factor, &common) &&
@@ -227,10 +242,20 @@ std::vector<char> dependent_rows(const SpMat& A) {
     const auto* column = static_cast<const int*>(factor->p);
     const auto* values = static_cast<const double*>(factor->x);
     const auto* perm = static_cast<const int*>(factor->Perm);
+    double largest_dependent = 0, smallest_other = std::numeric_limits<double>::infinity();
     for (size_t k = 0; k < factor->n; ++k) {
       const double l = values[column[k]];  // a simplicial column starts with its diagonal
-      if (l * l < 1e-10) dependent[perm[k]] = 1;
+      if (l * l < 1e-10) {
+        dependent[perm[k]] = 1;
+        largest_dependent = std::max(largest_dependent, l * l);
+      } else {
+        smallest_other = std::min(smallest_other, l * l);
+      }
     }
+    if (std::getenv("LEGO_IPM_TRACE"))
+      fmt::print(stderr, "dependent rows: {}, pivots up to {:.1e}; the others' from {:.1e}\n",
+                 std::count(dependent.begin(), dependent.end(), 1), largest_dependent,
+                 smallest_other);
   }
   cholmod_free_factor(&factor, &common);
   cholmod_finish(&common);
@@ -309,6 +334,7 @@ class SymbolicAnalysis {
   // ran out of memory (it will say so again).
   RowOrder order(int ordering, const std::vector<int>& given = {}) {
     common_.method[0].ordering = ordering;
+    const auto turn = metis_turn(ordering);
     cholmod_factor* symbolic = cholmod_analyze_p(
         &view_, given.empty() ? nullptr : const_cast<int*>(given.data()), nullptr, 0, &common_);
     RowOrder out;
