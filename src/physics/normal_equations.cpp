@@ -47,13 +47,15 @@ constexpr double kChainLike = 1.5;
 // small loops in every supernode, whatever OMP_NUM_THREADS says. On two cores those teams cost
 // more than their loops: 600,000 futex calls and as much system time as user time in one
 // 2,000-brick solve, 1.5 s against 1.05 s with them serial. The BLAS keeps its own threads for
-// the large supernodes. OpenMP parallel regions nested zero levels deep run on one thread.
+// the large supernodes. OpenMP parallel regions nested zero levels deep run on one thread. The
+// setting is each thread's own (libgomp keeps it per thread): set once on every thread that
+// factors, or brickcheck's second worker opened teams of four as before.
 void serialize_openmp_regions() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    using Set = void (*)(int);
-    if (auto set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"))) set(0);
-  });
+  thread_local bool serialized = false;
+  if (serialized) return;
+  serialized = true;
+  using Set = void (*)(int);
+  if (auto set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"))) set(0);
 }
 
 // METIS (5.1, as Debian builds it) keeps its random number generator in process-wide state that

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <filesystem>
 #include <numeric>
 #include <random>
 #include <thread>
@@ -128,6 +129,34 @@ TEST(NormalMatrix, OrdersComputedAtOnceAreThoseOfOneThread) {
   compute();
   other.join();
   EXPECT_EQ(differ, 0);
+}
+
+int threads_of_this_process() {
+  return int(std::distance(std::filesystem::directory_iterator("/proc/self/task"),
+                           std::filesystem::directory_iterator()));
+}
+
+// Debian's CHOLMOD opens OpenMP teams of four in every supernode, which cost more than they do
+// on two cores (normal_equations.cpp); the setting that keeps them on the calling thread is each
+// thread's own. A factorization on a second thread, after one on the first, opens no team.
+TEST(NormalMatrix, FactorizationsOnAnyThreadOpenNoOpenMpTeams) {
+  const Assembly box = bench::hollow_box_of(300);
+  const ContactGraph graph = ContactGraph::build(box, GroundMode::Baseplate);
+  const EquilibriumSystem sys =
+      build_equilibrium(box, graph, analyze_connectivity(int(box.bricks.size()), graph));
+  std::vector<int> all(size_t(sys.rows));
+  std::iota(all.begin(), all.end(), 0);
+  const SparseMatrix A = renumber_rows(sys.rows, sys.columns(), sys.column_start.data(),
+                                       sys.row_index.data(), sys.value.data(), all);
+  dependent_rows(A);  // this thread first
+  int before = 0, after = 0;
+  std::thread other([&] {
+    before = threads_of_this_process();
+    dependent_rows(A);
+    after = threads_of_this_process();
+  });
+  other.join();
+  EXPECT_EQ(after, before);
 }
 
 // Solves (A·Θ·Aᵀ + D·Θ_D·Dᵀ)·v = r through NormalFactor, which factors it in a fill-reducing order
