@@ -14,11 +14,11 @@ int Pose::turn(int direction) const {
   return direction;
 }
 
-CarriedPart carried_part(const BrickType& type, std::string reason, int color,
-                         const SourceRef& source, const Pose& pose) {
+CarriedPart carried_part(const BrickType& type, PartRole role, int color, const SourceRef& source,
+                         const Pose& pose) {
   CarriedPart c;
   c.part = type.part;
-  c.reason = std::move(reason);
+  c.role = role;
   c.color = color;
   c.source = source;
   c.mass_g = type.mass_g;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/brick.h"
+#include "core/part_role.h"
 
 namespace lego {
 
@@ -20,8 +21,8 @@ struct ExternalLoad {
 // A placed part whose connections the physics cannot model (PHYSICS.md "Carried parts"): a
 // hinge, a wheel, a minifigure, a part at an angle. It keeps its weight and joins what it touches.
 struct CarriedPart {
-  std::string part;    // as the catalog names parts: "3938", "s/3068bs01"
-  std::string reason;  // why its connections are not modelled
+  std::string part;                         // as the catalog names parts: "3938", "s/3068bs01"
+  PartRole role = PartRole::NoConnections;  // why its connections are not modelled
   int color = 16;
   SourceRef source;
   double mass_g = 0;
@@ -36,9 +37,9 @@ struct CarriedPart {
   // fingers or ring engaged in the other half's.
   bool pivots = false;
 };
-// A part of `type` carried for `reason`: its body, outline, studs and mass are the type's.
-CarriedPart carried_part(const BrickType& type, std::string reason, int color,
-                         const SourceRef& source, const Pose& pose);
+// A part of `type` carried as `role` says: its body, outline, studs and mass are the type's.
+CarriedPart carried_part(const BrickType& type, PartRole role, int color, const SourceRef& source,
+                         const Pose& pose);
 
 // Bricks on the lattice plus what the physics needs besides them. Both front doors (LDraw files
 // and meshes) produce one.

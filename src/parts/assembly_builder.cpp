@@ -350,10 +350,9 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     if (auto [at, fresh] = first_at.try_emplace(place_key(p), i); !fresh) {
       const ldraw::PlacedPart& first = model.parts[at->second];
       out.skipped.push_back(
-          {i,
+          {i, PartRole::Copy,
            fmt::format("a copy of {}:{}, the same part in the same place",
-                       std::filesystem::path(first.file).filename().string(), first.line),
-           true});
+                       std::filesystem::path(first.file).filename().string(), first.line)});
       continue;
     }
     const ldraw::Transform placed = in_frame(p.transform);
@@ -365,11 +364,11 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
       if (submodel)
         why = fmt::format("missing submodel '{}': in neither the file, its folder nor the library",
                           p.reference);
-      out.skipped.push_back({i, why, false, submodel});
+      out.skipped.push_back({i, submodel ? PartRole::MissingSubmodel : PartRole::UnknownPart, why});
       continue;
     }
     const SourceRef source{p.file, p.line, p.step, p.built_in, p.apart_from};
-    std::string carried_reason = k->carried_reason;
+    std::optional<PartRole> carried = k->carried;
     std::array<double, 9> rotation = placed.rot;
     bool approximate = false;
     if (auto exact = orthonormalized(rotation, 1e-6)) {
@@ -377,17 +376,16 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     } else if (auto near = orthonormalized(rotation, kRotationTolerance)) {
       rotation = *near;
       approximate = true;
-    } else if (carried_reason.empty()) {
-      carried_reason = "its matrix is scaled or sheared";
+    } else if (!carried) {
+      carried = PartRole::ScaledOrSheared;
     }
     std::optional<std::array<double, 9>> turn;
     std::optional<FramedPart> framed;
-    if (carried_reason.empty()) {
+    if (!carried) {
       turn = quarter_turn(rotation, kQuarterTurnTolerance);
       if (!turn) framed = turned_frame(model, p, model_turn);
       if (!turn && !framed) framed = part_turns.place(rotation, placed);
-      if (!turn && !framed)
-        carried_reason = "turned by an angle that is not a multiple of 90 degrees";
+      if (!turn && !framed) carried = PartRole::TurnedOffQuarter;
     }
     Pose pose;
     pose.rotation = turn ? *turn : rotation;
@@ -398,14 +396,13 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     const PartShape& shape = k->type.shape;
     const bool on_plates = !shape.studs.empty() || !shape.receptacles.empty();
     double slip = 0;
-    if (carried_reason.empty() && !framed && on_plates &&
-        std::abs(std::abs(pose.rotation[4]) - 1) < 1e-9) {
+    if (!carried && !framed && on_plates && std::abs(std::abs(pose.rotation[4]) - 1) < 1e-9) {
       slip = plate_slip(placed.pos[1], plates);
       pose.origin[1] += slip;
     }
-    if (!carried_reason.empty()) {
+    if (carried) {
       if (!orthonormalized(placed.rot, kRotationTolerance)) pose.rotation = placed.rot;
-      out.assembly.carried.push_back(carried_part(k->type, carried_reason, p.color, source, pose));
+      out.assembly.carried.push_back(carried_part(k->type, *carried, p.color, source, pose));
       out.carried_part.push_back(i);
       continue;
     }

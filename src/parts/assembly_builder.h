@@ -12,14 +12,12 @@
 
 namespace lego::parts {
 
-// A placed part that is not analysed as structure, and why.
+// A placed part left out of the analysis: nothing of it is known (a part no library holds, a
+// submodel no file holds), or it is a copy of another part in the same place, which is not there.
 struct PartNote {
   size_t part = 0;  // index into Model::parts
-  std::string reason;
-  // A copy of another part in the same place: nothing of it is unknown, it is not there.
-  bool copy = false;
-  // A submodel no file holds: where its origin lies says nothing of where its parts are.
-  bool missing_submodel = false;
+  PartRole role = PartRole::UnknownPart;
+  std::string reason;  // as the reports say it, with the files it names
 };
 
 struct AssemblyConversion {

@@ -163,16 +163,15 @@ bool minifigure(const PartGeometry& g) {
   return g.category.starts_with("Minifig") || first_word(g) == "Minifig";
 }
 
-std::string carried_by_name(const PartGeometry& g) {
+std::optional<PartRole> carried_by_name(const PartGeometry& g) {
   const std::string first = first_word(g);
   const std::string_view title = without_title_marks(g.title);
-  if (minifigure(g)) return "a minifigure part (its joints are not modelled)";
-  if (first == "Hinge") return "a hinge half without cells of its own (it turns)";
-  if (first == "Turntable") return "a turntable (it turns)";
-  if (first == "Door" && !title.starts_with("Door Frame")) return "a door (it hangs on hinge pins)";
-  if (first == "Wheel" || first == "Tyre" || first == "Tire")
-    return "a wheel or tyre whose axle line its file does not draw";
-  return {};
+  if (minifigure(g)) return PartRole::MinifigurePart;
+  if (first == "Hinge") return PartRole::HingeWithoutCells;
+  if (first == "Turntable") return PartRole::Turntable;
+  if (first == "Door" && !title.starts_with("Door Frame")) return PartRole::Door;
+  if (first == "Wheel" || first == "Tyre" || first == "Tire") return PartRole::WheelWithoutAxleLine;
+  return std::nullopt;
 }
 
 // The line a shaft lies on: its axis and where it crosses the other two, on a quarter-LDU grid.
@@ -588,7 +587,7 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   t.shape.shafts.insert(t.shape.shafts.end(), rounds.begin(), rounds.end());
   if (t.shape.body.empty()) {
     // Nothing but studs: a box around them keeps its weight somewhere.
-    k.carried_reason = "its file draws no body";
+    k.carried = PartRole::DrawsNoBody;
     Box b{{-10, 0, -10}, {10, 4, 10}};
     t.shape.body = {b};
   }
@@ -613,14 +612,11 @@ PartKnowledge derive_part(const std::string& part, const PartGeometry& g,
   // parts are carried whatever their cells (PHYSICS.md): a head's cell takes a neck.
   const bool turns_on_knuckles = std::any_of(t.shape.shafts.begin(), t.shape.shafts.end(),
                                              [](const Shaft& s) { return s.knuckle(); });
-  if (k.carried_reason.empty() &&
+  if (!k.carried &&
       (minifigure(g) || (t.shape.receptacles.empty() && !turns_on_knuckles && !t.rolls)))
-    k.carried_reason = carried_by_name(g);
-  if (k.carried_reason.empty() && t.shape.studs.empty() && t.shape.receptacles.empty() &&
-      t.shape.shafts.empty())
-    k.carried_reason =
-        "no studs, receptacles, pin holes, pins, axles, bars or clips (its connections are "
-        "not modelled)";
+    k.carried = carried_by_name(g);
+  if (!k.carried && t.shape.studs.empty() && t.shape.receptacles.empty() && t.shape.shafts.empty())
+    k.carried = PartRole::NoConnections;
   return k;
 }
 

@@ -6,13 +6,14 @@
 #include <string>
 
 #include "core/brick_catalog.h"
+#include "core/part_role.h"
 #include "parts/part_geometry.h"
 
 namespace lego::parts {
 
 struct PartKnowledge {
-  BrickType type;              // name, shape, mass and its source, baseplate
-  std::string carried_reason;  // empty: analysed as structure; else why it is carried
+  BrickType type;                   // name, shape, mass and its source, baseplate
+  std::optional<PartRole> carried;  // none: analysed as structure; else why it is carried
 };
 
 // `part` is the catalog's name for it ("3001", "s/3068bs01"); the catalog gives the masses it

@@ -48,7 +48,7 @@ Assumptions assumptions_of(const Audit& a) {
       out.analysed_mass_g += assembly.bricks[i].mass_g();
   for (const CarriedPart& c : assembly.carried) out.carried_mass_g += c.mass_g;
   for (const auto& s : a.conversion.skipped) {
-    if (s.copy) continue;
+    if (s.role == PartRole::Copy) continue;
     ++out.left_out;
     const auto& p = a.model.parts[s.part];
     out.deciding.push_back(

@@ -137,8 +137,8 @@ std::vector<size_t> fixed_parts(const ldraw::Model& model, const std::vector<Lin
   return out;
 }
 
-// Moves the bricks `carry` marks into the carried parts, with `reason`; loads on them are dropped.
-void carry_bricks(Audit& audit, const std::vector<char>& carry, const std::string& reason) {
+// Moves the bricks `carry` marks into the carried parts, as `role`; loads on them are dropped.
+void carry_bricks(Audit& audit, const std::vector<char>& carry, PartRole role) {
   auto& conversion = audit.conversion;
   Assembly& a = conversion.assembly;
   std::vector<Brick> bricks;
@@ -152,7 +152,7 @@ void carry_bricks(Audit& audit, const std::vector<char>& carry, const std::strin
       brick_part.push_back(conversion.brick_part[i]);
       continue;
     }
-    a.carried.push_back(carried_part(*b.type, reason, b.color, b.source, model_pose(b)));
+    a.carried.push_back(carried_part(*b.type, role, b.color, b.source, model_pose(b)));
     conversion.carried_part.push_back(conversion.brick_part[i]);
   }
   a.bricks = std::move(bricks);
@@ -182,7 +182,7 @@ void carry_lone_turned(Audit& audit, const physics::StabilityOptions& o) {
       if (c.snap() && c.lower != physics::kGround) alone[i] = 0;
     }
   }
-  carry_bricks(audit, alone, "turned by an angle that is not a multiple of 90 degrees");
+  carry_bricks(audit, alone, PartRole::TurnedOffQuarter);
 }
 
 // The assembly's contact graph, and per brick whether it reaches no ground (PHYSICS.md
@@ -275,11 +275,10 @@ bool nudge_onto_the_lattice(Audit& audit, const std::vector<char>& floating,
 
 // Parts that only a joint of another part can hold (a bar, a wheel): those of `kind` that no
 // shaft joint ties to a part of another kind, directly or through others of the kind (a tyre
-// through its wheel), are held by what the analysis does not model: carried, with `reason`.
+// through its wheel), are held by what the analysis does not model: carried, as `role`.
 // Returns whether any was.
 bool carry_held_by_no_joint(Audit& audit, const physics::ContactGraph& graph,
-                            const std::function<bool(const BrickType&)>& kind,
-                            const std::string& reason) {
+                            const std::function<bool(const BrickType&)>& kind, PartRole role) {
   const Assembly& a = audit.conversion.assembly;
   std::vector<char> loose(a.bricks.size(), 0);
   bool any = false;
@@ -299,7 +298,7 @@ bool carry_held_by_no_joint(Audit& audit, const physics::ContactGraph& graph,
     }
   }
   if (std::find(loose.begin(), loose.end(), 1) == loose.end()) return false;
-  carry_bricks(audit, loose, reason);
+  carry_bricks(audit, loose, role);
   return true;
 }
 
@@ -331,12 +330,9 @@ bool wheel_or_tyre(const BrickType& t) {
 void carry_unconnected(Audit& audit, const physics::StabilityOptions& o) {
   const Assembly& a = audit.conversion.assembly;
   Floating now = floating_bricks(a, o);
-  if (carry_held_by_no_joint(audit, now.graph, bars_only,
-                             "a bar no clip holds (what holds it is not modelled)"))
+  if (carry_held_by_no_joint(audit, now.graph, bars_only, PartRole::BarUnclipped))
     now = floating_bricks(a, o);
-  if (carry_held_by_no_joint(audit, now.graph, wheel_or_tyre,
-                             "a wheel or tyre on no pin or axle we find (what holds it is not "
-                             "modelled)"))
+  if (carry_held_by_no_joint(audit, now.graph, wheel_or_tyre, PartRole::WheelOnNothing))
     now = floating_bricks(a, o);
   if (std::find(now.bricks.begin(), now.bricks.end(), 1) == now.bricks.end()) return;
   if (nudge_onto_the_lattice(audit, now.bricks, o)) now = floating_bricks(a, o);
@@ -351,8 +347,7 @@ void carry_unconnected(Audit& audit, const physics::StabilityOptions& o) {
     technic = technic || shafts_only[i];
   }
   if (technic) {
-    carry_bricks(audit, shafts_only,
-                 "its pins, axles, holes, bars and clips meet nothing that stands");
+    carry_bricks(audit, shafts_only, PartRole::ShaftsMeetNothing);
     now = floating_bricks(a, o);
   }
   const physics::ContactGraph& graph = now.graph;
@@ -373,10 +368,10 @@ void carry_unconnected(Audit& audit, const physics::StabilityOptions& o) {
   for (const auto& c : graph.contacts) turns_on(c.lower, c.upper), turns_on(c.upper, c.lower);
   for (const auto& [x, y] : graph.overlaps) turns_on(x, y), turns_on(y, x);
   if (any) {
-    carry_bricks(audit, pivots, "a hinge or turntable half: it turns on what holds it");
+    carry_bricks(audit, pivots, PartRole::TurnsOnItsHalf);
     floating = floating_bricks(a, o).bricks;
   }
-  carry_bricks(audit, floating, "its studs and receptacles meet nothing that stands");
+  carry_bricks(audit, floating, PartRole::MeetsNothing);
 }
 
 // A part snapped to nothing that stands, resting where it cannot stay (a hinge plate held by its
@@ -406,7 +401,7 @@ bool carry_resting_unbalanced(Audit& audit) {
   std::vector<char> carry(audit.conversion.assembly.bricks.size(), 0);
   for (size_t i = 0; i < carry.size(); ++i)
     carry[i] = c.component[i] >= 0 && resting[size_t(c.component[i])];
-  carry_bricks(audit, carry, "it rests where it cannot stay, snapped to nothing that stands");
+  carry_bricks(audit, carry, PartRole::RestsOutOfPlace);
   return true;
 }
 
@@ -427,9 +422,7 @@ bool carry_tilted_unbalanced(Audit& audit) {
   for (size_t i = 0; i < bricks.size(); ++i)
     carry[i] = bricks[i].frame &&
                std::find(lattices.begin(), lattices.end(), bricks[i].frame->id) != lattices.end();
-  carry_bricks(audit, carry,
-               "on a lattice tilted off the vertical, where nothing holds it against the twist "
-               "about its studs");
+  carry_bricks(audit, carry, PartRole::OnTiltedLattice);
   return true;
 }
 
@@ -457,7 +450,7 @@ void lower_ground_under_unknown_parts(Audit& audit) {
     for (const Vec3& p : physics::world_outline(c)) lowest = std::min(lowest, p[1]);
   double ground = lowest;
   for (const auto& s : audit.conversion.skipped) {
-    if (s.copy || s.missing_submodel) continue;
+    if (s.role == PartRole::Copy || s.role == PartRole::MissingSubmodel) continue;
     const double top = -audit.model.parts[s.part].transform.pos[1] - a.origin_ldu[1];
     if (top <= lowest + 0.5) ground = std::min(ground, top - kLduPerPlate);
   }

@@ -46,7 +46,7 @@ void parts_json(const Audit& a, json& j) {
   for (size_t i = 0; i < a.conversion.assembly.carried.size(); ++i) {
     const CarriedPart& c = a.conversion.assembly.carried[i];
     json entry = carried_json(a, int(i));
-    entry["reason"] = c.reason;
+    entry["reason"] = carried_because(c.role);
     entry["mass_g"] = c.mass_g;
     j["carried"].push_back(entry);
   }

@@ -123,7 +123,8 @@ void parts_section(const Audit& a, Lines& line) {
   if (!assembly.carried.empty()) {
     line("  carried (weight counted, connections assumed):");
     for (size_t i = 0; i < assembly.carried.size(); ++i)
-      line(fmt::format("    {}: {}", describe_carried(a, int(i)), assembly.carried[i].reason));
+      line(fmt::format("    {}: {}", describe_carried(a, int(i)),
+                       carried_because(assembly.carried[i].role)));
   }
   for (const auto& s : a.conversion.skipped) {
     const auto& p = parts[s.part];

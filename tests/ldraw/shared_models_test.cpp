@@ -43,7 +43,9 @@ TEST_P(SharedModels, ReadWithoutErrors) {
   }
   for (const auto& p : m.parts) {
     built_apart += p.built_in > 0;
-    if (p.built_in > 0) EXPECT_LT(p.built_in, p.step) << "built apart before it is placed";
+    if (p.built_in > 0) {
+      EXPECT_LT(p.built_in, p.step) << "built apart before it is placed";
+    }
   }
   EXPECT_EQ(size_t(step_parts), m.parts.size());
   EXPECT_EQ(step_apart, built_apart + int(m.aside.size()));

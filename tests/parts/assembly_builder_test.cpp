@@ -46,10 +46,11 @@ TEST(ToAssembly, TurnsByQuarterTurnsAreOnTheLatticeOtherAnglesOnTheirOwn) {
   EXPECT_NEAR(at_55.rotation[2], 0.82, 1e-2);
   EXPECT_EQ(at_55.origin, (Vec3{0, -24, 0}));
   ASSERT_EQ(conv.assembly.carried.size(), 1u);
-  EXPECT_NE(conv.assembly.carried[0].reason.find("scaled or sheared"), std::string::npos);
+  EXPECT_EQ(conv.assembly.carried[0].role, PartRole::ScaledOrSheared);
   EXPECT_EQ(conv.assembly.carried[0].mass_g, 2.20);  // carried parts keep their weight
   ASSERT_EQ(conv.skipped.size(), 1u);
   EXPECT_EQ(m.parts[conv.skipped[0].part].line, 10);
+  EXPECT_EQ(conv.skipped[0].role, PartRole::UnknownPart);
   EXPECT_NE(conv.skipped[0].reason.find("no part file"), std::string::npos);
   // The near rotation is made exact, with a warning naming its line.
   ASSERT_EQ(conv.diagnostics.size(), 1u);

@@ -405,7 +405,8 @@ void corpus_section(const fs::path& shared, double max_seconds) {
     turned += size_t(report::turned_lattice_bricks(a.conversion.assembly));
     carried += a.conversion.assembly.carried.size();
     left_out += a.conversion.skipped.size();
-    for (const auto& c : a.conversion.assembly.carried) ++reasons[c.reason];
+    for (const auto& c : a.conversion.assembly.carried)
+      ++reasons[std::string(carried_because(c.role))];
   };
   for_each_corpus_model(shared, corpus_options(shared, max_seconds), count);
   if (models == 0) return;

@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
     }
     const BrickType& t = k->type;
     fmt::print("{}: {} [{}]{}{}\n", t.part, t.name, t.kind, t.baseplate ? " baseplate" : "",
-               k->carried_reason.empty() ? "" : " CARRIED: " + k->carried_reason);
+               !k->carried ? "" : " CARRIED: " + std::string(carried_because(*k->carried)));
     fmt::print("  mass {:.3f} g ({})\n", t.mass_g, t.mass_source);
     static const char* kDir[6] = {"+x", "-x", "+y(down)", "-y(up)", "+z", "-z"};
     for (const Box& b : t.shape.body)
