@@ -195,7 +195,7 @@ LpSolution solve_supports_boxed(const std::function<LpData(double bound)>& make,
     // Clp's primal simplex from the interior point method's best point was slower still on the
     // corpus models where it fails.)
     message = s.message + "; solved by Clp's dual simplex instead";
-    if (stats) stats->solver = "Clp dual simplex after the interior point method";
+    if (stats) stats->solver = kClpAfterOurs;
     s = attempt(LpMethod::DualSimplex, kInfinity);
   } else if (s.outcome == LpOutcome::Optimal && message.empty()) {
     message = s.message;  // how our method got there, when it did not reach its tolerance

@@ -19,6 +19,9 @@ inline constexpr double kMaxScale = 1e6;
 // reaches it is solved again up to kMaxScale, with the support box as wide as the cap.
 inline constexpr double kFirstScale = 1e3;
 
+// LpStats::solver where our interior point method failed and Clp's dual simplex took over.
+inline constexpr const char* kClpAfterOurs = "Clp dual simplex after the interior point method";
+
 // The equilibrium columns with the bounds of their kind: friction in [0, friction_upper], normal
 // forces ≥ 0, support forces in ±support_bound (free when infinite); rows A·x = rhs_scale·b.
 LpData equilibrium_lp(const EquilibriumSystem& sys, double friction_upper, double rhs_scale,
