@@ -172,10 +172,11 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
     if (p.rows_per_body > 1)
       for (int r = 0; r < p.rows; ++r)
         if (row_map[r] >= 0) body.push_back(r / p.rows_per_body);
+    const auto ordering = std::chrono::steady_clock::now();
     const RowOrder row_order = fill_reducing_order(A_sparse, body);
     if (trace)
-      fmt::print(stderr, "order: {}, factor {:.3g} entries, {:.3g} flops\n", row_order.method,
-                 row_order.entries, row_order.flops);
+      fmt::print(stderr, "order: {}, factor {:.3g} entries, {:.3g} flops, {:.3f} s\n",
+                 row_order.method, row_order.entries, row_order.flops, seconds_since(ordering));
     const std::vector<int>& order = row_order.rows;
     NormalMatrix normal(A_sparse, order);
     Eigen::MatrixXd A_dense(m, Eigen::Index(dense.size()));
