@@ -11,6 +11,7 @@
 #include <optional>
 #include <set>
 #include <thread>
+#include <variant>
 
 #include "app/number_checks.h"
 #include "app/output_paths.h"
@@ -296,57 +297,158 @@ FileReport check_file(const std::string& file, size_t files, const Settings& s,
   return r;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  stop::install("brickcheck");  // before any thread starts: they inherit its signal mask
-  CLI::App app{"brickcheck: check LDraw models (.ldr, .mpd) for connectivity and stability"};
-  app.footer(kExitCodes);
+// What the command line gives.
+struct Arguments {
   std::vector<std::string> files;
   std::string ldraw_dir, ground = "baseplate", heatmap, main_model, instructions;
   std::vector<std::string> load_texts, ground_part_texts;
   double min_cm = 0, max_seconds = 60;
   bool json = false, steps = false, quiet = false, strict = false;
   int jobs = 1;
-  app.add_option("files", files, "LDraw models to check")->required();
-  app.add_option("-j,--jobs", jobs,
+};
+
+void add_options(CLI::App& app, Arguments& a) {
+  app.add_option("files", a.files, "LDraw models to check")->required();
+  app.add_option("-j,--jobs", a.jobs,
                  "check this many files at once; the reports still come in the order given "
                  "(default 1)")
       ->check(CLI::Range(1, 1024));
-  app.add_option("--ldraw-dir", ldraw_dir,
+  app.add_option("--ldraw-dir", a.ldraw_dir,
                  "LDraw library for parts we do not ship (default: $LDRAWDIR)");
-  app.add_option("--ground", ground, "baseplate: the ground holds knobs; table: it only pushes")
+  app.add_option("--ground", a.ground, "baseplate: the ground holds knobs; table: it only pushes")
       ->check(CLI::IsMember({"baseplate", "table"}));
   // One value per use, so an option never swallows the files that follow it.
   app.add_option(
-         "--load", load_texts,
+         "--load", a.load_texts,
          "external weight: LINE=GRAMS or FILE:LINE=GRAMS (a brick's top knobs), step:K=GRAMS, "
          "submodel:NAME=GRAMS, top=GRAMS (the highest parts; spread over their top knobs); "
          "repeatable")
       ->allow_extra_args(false);
-  app.add_option("--ground-part", ground_part_texts,
+  app.add_option("--ground-part", a.ground_part_texts,
                  "the part this line places is fixed, part of the ground: LINE or FILE:LINE; "
                  "repeatable")
       ->allow_extra_args(false);
-  app.add_option("--min-cm", min_cm, "stability threshold for C_M in grams-force (default 0)")
+  app.add_option("--min-cm", a.min_cm, "stability threshold for C_M in grams-force (default 0)")
       ->check(app::finite_number());
-  app.add_option("--main", main_model, "the MPD model to check instead of the first FILE");
-  app.add_option("--max-seconds", max_seconds,
+  app.add_option("--main", a.main_model, "the MPD model to check instead of the first FILE");
+  app.add_option("--max-seconds", a.max_seconds,
                  "give up on a model's stability after this long, and on its build steps after as "
                  "long again: exit 4, undecided (default 60)")
       ->check(app::finite_number(app::Sign::Positive));
-  app.add_flag("--json", json, "print JSON on stdout (docs/brickcheck-json.md)");
-  app.add_option("--heatmap", heatmap,
+  app.add_flag("--json", a.json, "print JSON on stdout (docs/brickcheck-json.md)");
+  app.add_option("--heatmap", a.heatmap,
                  "write the model coloured by per-brick capacity to this .ldr");
-  app.add_flag("--steps", steps, "check the model after every build step");
-  app.add_option("--instructions", instructions,
+  app.add_flag("--steps", a.steps, "check the model after every build step");
+  app.add_option("--instructions", a.instructions,
                  "write an HTML booklet into this folder (one FILE): a page per build step with a "
                  "picture (LeoCAD), its parts and its C_M; implies --steps");
-  app.add_flag("--quiet", quiet, "print only the verdict line of each file");
-  app.add_flag("--strict", strict,
+  app.add_flag("--quiet", a.quiet, "print only the verdict line of each file");
+  app.add_flag("--strict", a.strict,
                "exit 5 when a stable verdict rests on an assumption that can change it (a part "
                "held by a connection not modelled, a part left out, assumed rigid joints the "
                "model does not stand without), naming each");
+}
+
+// The audit's options from the arguments, or what is wrong with them.
+std::variant<report::AuditOptions, std::string> audit_options(const Arguments& a) {
+  report::AuditOptions options;
+  if (!a.ldraw_dir.empty()) {
+    if (!is_ldraw_library(a.ldraw_dir))
+      return "--ldraw-dir " + a.ldraw_dir +
+             " is not an LDraw library (no parts/ or p/ folder in it)";
+    options.read.library_dirs = {a.ldraw_dir};
+  } else {
+    options.read.library_dirs = ldraw::library_dirs_from_env();
+  }
+  if (!a.main_model.empty()) options.read.main_model = a.main_model;
+  options.stability.ground =
+      a.ground == "table" ? physics::GroundMode::Table : physics::GroundMode::Baseplate;
+  options.min_cm_gf = a.min_cm;
+  options.strict = a.strict;
+  options.stability.max_seconds = a.max_seconds;
+  options.steps = a.steps || !a.instructions.empty();
+  options.brick_capacity = !a.heatmap.empty();
+  try {
+    if (!a.instructions.empty()) {
+      if (a.files.size() != 1) return std::string("--instructions takes one FILE");
+      report::check_booklet_folder(a.instructions);
+    }
+    for (const auto& t : a.load_texts) options.loads.push_back(report::parse_load_spec(t));
+    for (const auto& t : a.ground_part_texts)
+      options.ground_parts.push_back(report::parse_line_spec(t, "--ground-part"));
+  } catch (const InputError& e) {
+    return std::string(e.what());
+  }
+  return options;
+}
+
+// Every heat map against every input, before anything is read or written: the heat map of one
+// file must not replace another file still to be checked, nor the heat map of another. What is
+// wrong, or nothing.
+std::optional<std::string> heatmap_clash(const Arguments& a) {
+  const auto& files = a.files;
+  for (size_t i = 0; i < files.size(); ++i) {
+    const fs::path out = heatmap_path(a.heatmap, files[i], files.size() > 1);
+    try {
+      app::check_outputs({{"--heatmap", out.string()}}, {});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    for (size_t k = 0; k < files.size(); ++k) {
+      if (app::same_file(out, files[k]))
+        return "--heatmap: the heat map of " + files[i] + " (" + out.string() +
+               ") would overwrite the input " + files[k];
+      if (k < i && app::same_file(out, heatmap_path(a.heatmap, files[k], true)))
+        return "--heatmap: " + files[k] + " and " + files[i] + " would write the same heat map " +
+               out.string();
+    }
+  }
+  return std::nullopt;
+}
+
+// Checks every file, `jobs` at once, and prints their reports in the order given; the worst
+// exit code.
+int check_files(const Arguments& a, report::AuditOptions options) {
+  const int jobs_used = int(std::min(size_t(a.jobs), a.files.size()));
+  // One file at a time: its independent structures' large blocks (a town's) two at a time.
+  options.stability.block_jobs =
+      jobs_used > 1 ? 1 : int(std::clamp(std::thread::hardware_concurrency(), 1u, 2u));
+  // On a terminal only, and for one file at a time: lines of files checked at once would mix.
+  const bool progress = !a.quiet && jobs_used == 1 && ::isatty(STDERR_FILENO);
+  Reported reported;
+  reported.files = a.files.size();
+  Settings settings{options,   a.json,         a.quiet,     progress,    &reported,
+                    a.heatmap, a.instructions, a.ldraw_dir, a.main_model};
+  parts::PartLibrary library(options.read.library_dirs, BrickCatalog::standard());
+  auto check = [&](size_t i) { return check_file(a.files[i], a.files.size(), settings, library); };
+  // One BLAS thread, whatever -j: the interior point method's last bits, and with them the order
+  // of equally weak contacts, then do not depend on -j (with two BLAS threads for -j 1 the
+  // corpus's chapel and fighter jet listed theirs in another order than under -j 2), and no BLAS
+  // thread spins for a core another program holds (the corpus one after another took 85-133 s
+  // with two beside a build using both cores, 45-49 s with one; docs/scale.md).
+  const physics::OneBlasThreadEach blas_threads(true);
+  run_in_order<FileReport>(a.files.size(), jobs_used, check, [&](size_t, FileReport&& r) {
+    const std::lock_guard lock(reported.mutex);
+    if (rank(r.code) > rank(reported.worst)) reported.worst = r.code;
+    if (a.json)
+      reported.all.push_back(std::move(r.json));
+    else
+      std::cout << r.text << std::flush;
+    std::cerr << r.errors << std::flush;
+  });
+  const std::lock_guard lock(reported.mutex);
+  if (a.json) print_json(a.files.size() == 1 ? reported.all[0] : reported.all);
+  return reported.worst;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  stop::install("brickcheck");  // before any thread starts: they inherit its signal mask
+  CLI::App app{"brickcheck: check LDraw models (.ldr, .mpd) for connectivity and stability"};
+  app.footer(kExitCodes);
+  Arguments arguments;
+  add_options(app, arguments);
   // A usage error on stderr, and with --json as a JSON object on stdout too, so that a script
   // reading stdout learns why there is no report. --json is looked for in the arguments as given:
   // a parse error leaves the flag unset.
@@ -371,93 +473,9 @@ int main(int argc, char** argv) {
     json_error(e.what());
     return kBadInput;
   }
-
-  report::AuditOptions options;
-  if (!ldraw_dir.empty()) {
-    if (!is_ldraw_library(ldraw_dir)) {
-      return usage_error("--ldraw-dir " + ldraw_dir +
-                         " is not an LDraw library (no parts/ or p/ folder in it)");
-    }
-    options.read.library_dirs = {ldraw_dir};
-  } else {
-    options.read.library_dirs = ldraw::library_dirs_from_env();
-  }
-  if (!main_model.empty()) options.read.main_model = main_model;
-  options.stability.ground =
-      ground == "table" ? physics::GroundMode::Table : physics::GroundMode::Baseplate;
-  options.min_cm_gf = min_cm;
-  options.strict = strict;
-  options.stability.max_seconds = max_seconds;
-  options.steps = steps || !instructions.empty();
-  if (!instructions.empty()) {
-    if (files.size() != 1) {
-      return usage_error("--instructions takes one FILE");
-    }
-    try {
-      report::check_booklet_folder(instructions);
-    } catch (const InputError& e) {
-      return usage_error(e.what());
-    }
-  }
-  options.brick_capacity = !heatmap.empty();
-  try {
-    for (const auto& t : load_texts) options.loads.push_back(report::parse_load_spec(t));
-    for (const auto& t : ground_part_texts)
-      options.ground_parts.push_back(report::parse_line_spec(t, "--ground-part"));
-  } catch (const InputError& e) {
-    return usage_error(e.what());
-  }
-  if (!heatmap.empty()) {
-    // Every heat map against every input, before anything is read or written: the heat map of
-    // one file must not replace another file still to be checked, nor the heat map of another.
-    for (size_t i = 0; i < files.size(); ++i) {
-      const fs::path out = heatmap_path(heatmap, files[i], files.size() > 1);
-      try {
-        app::check_outputs({{"--heatmap", out.string()}}, {});
-      } catch (const InputError& e) {
-        return usage_error(e.what());
-      }
-      for (size_t k = 0; k < files.size(); ++k) {
-        if (app::same_file(out, files[k])) {
-          return usage_error("--heatmap: the heat map of " + files[i] + " (" + out.string() +
-                             ") would overwrite the input " + files[k]);
-        }
-        if (k < i && app::same_file(out, heatmap_path(heatmap, files[k], true))) {
-          return usage_error("--heatmap: " + files[k] + " and " + files[i] +
-                             " would write the same heat map " + out.string());
-        }
-      }
-    }
-  }
-
-  const int jobs_used = int(std::min(size_t(jobs), files.size()));
-  // One file at a time: its independent structures' large blocks (a town's) two at a time.
-  options.stability.block_jobs =
-      jobs_used > 1 ? 1 : int(std::clamp(std::thread::hardware_concurrency(), 1u, 2u));
-  // On a terminal only, and for one file at a time: lines of files checked at once would mix.
-  const bool progress = !quiet && jobs_used == 1 && ::isatty(STDERR_FILENO);
-  Reported reported;
-  reported.files = files.size();
-  Settings settings{options, json,         quiet,     progress,  &reported,
-                    heatmap, instructions, ldraw_dir, main_model};
-  parts::PartLibrary library(options.read.library_dirs, BrickCatalog::standard());
-  auto check = [&](size_t i) { return check_file(files[i], files.size(), settings, library); };
-  // One BLAS thread, whatever -j: the interior point method's last bits, and with them the order
-  // of equally weak contacts, then do not depend on -j (with two BLAS threads for -j 1 the
-  // corpus's chapel and fighter jet listed theirs in another order than under -j 2), and no BLAS
-  // thread spins for a core another program holds (the corpus one after another took 85-133 s
-  // with two beside a build using both cores, 45-49 s with one; docs/scale.md).
-  const physics::OneBlasThreadEach blas_threads(true);
-  run_in_order<FileReport>(files.size(), jobs_used, check, [&](size_t, FileReport&& r) {
-    const std::lock_guard lock(reported.mutex);
-    if (rank(r.code) > rank(reported.worst)) reported.worst = r.code;
-    if (json)
-      reported.all.push_back(std::move(r.json));
-    else
-      std::cout << r.text << std::flush;
-    std::cerr << r.errors << std::flush;
-  });
-  const std::lock_guard lock(reported.mutex);
-  if (json) print_json(files.size() == 1 ? reported.all[0] : reported.all);
-  return reported.worst;
+  auto options = audit_options(arguments);
+  if (const auto* error = std::get_if<std::string>(&options)) return usage_error(*error);
+  if (!arguments.heatmap.empty())
+    if (const auto clash = heatmap_clash(arguments)) return usage_error(*clash);
+  return check_files(arguments, std::get<report::AuditOptions>(std::move(options)));
 }
