@@ -311,6 +311,55 @@ class PartTurnLattices {
   std::vector<Pose> lattices_;
 };
 
+// Where a known part goes: a brick with its pose (on the model's lattice, on a lattice turned
+// with it, or slipped onto the plates), or carried, with the role that says why.
+struct Placement {
+  Pose pose;
+  std::optional<FramedPart> framed;
+  std::optional<PartRole> carried;
+  bool approximate = false;  // its matrix a rotation only to kRotationTolerance
+  double slip = 0;           // LDU it was moved onto the plates the other parts stand on
+};
+
+// `placed`: the part's transform in the model's frame; `plates`: where the plates lie there.
+Placement place(const ldraw::Model& model, const ldraw::PlacedPart& p,
+                const ldraw::Transform& placed, const PartKnowledge& k,
+                const ldraw::Transform& model_turn, PartTurnLattices& part_turns, double plates) {
+  Placement out;
+  out.carried = k.carried;
+  std::array<double, 9> rotation = placed.rot;
+  if (auto exact = orthonormalized(rotation, 1e-6)) {
+    rotation = *exact;
+  } else if (auto near = orthonormalized(rotation, kRotationTolerance)) {
+    rotation = *near;
+    out.approximate = true;
+  } else if (!out.carried) {
+    out.carried = PartRole::ScaledOrSheared;
+  }
+  std::optional<std::array<double, 9>> turn;
+  if (!out.carried) {
+    turn = quarter_turn(rotation, kQuarterTurnTolerance);
+    if (!turn) out.framed = turned_frame(model, p, model_turn);
+    if (!turn && !out.framed) out.framed = part_turns.place(rotation, placed);
+    if (!turn && !out.framed) out.carried = PartRole::TurnedOffQuarter;
+  }
+  out.pose.rotation = turn ? *turn : rotation;
+  out.pose.origin = placed.pos;
+  if (out.framed) out.pose = out.framed->pose;
+  // The slip brings studs onto the plates: a part with none, held on lines by pins, bars or
+  // clips (an exhaust pipe in a headlight brick's hole), stays where it is drawn.
+  const PartShape& shape = k.type.shape;
+  const bool on_plates = !shape.studs.empty() || !shape.receptacles.empty();
+  if (!out.carried && !out.framed && on_plates &&
+      std::abs(std::abs(out.pose.rotation[4]) - 1) < 1e-9) {
+    out.slip = plate_slip(placed.pos[1], plates);
+    out.pose.origin[1] += out.slip;
+  }
+  if (out.carried && !orthonormalized(placed.rot, kRotationTolerance))
+    out.pose.rotation = placed.rot;
+  return out;
+}
+
 }  // namespace
 
 AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
@@ -368,51 +417,19 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
       continue;
     }
     const SourceRef source{p.file, p.line, p.step, p.built_in, p.apart_from};
-    std::optional<PartRole> carried = k->carried;
-    std::array<double, 9> rotation = placed.rot;
-    bool approximate = false;
-    if (auto exact = orthonormalized(rotation, 1e-6)) {
-      rotation = *exact;
-    } else if (auto near = orthonormalized(rotation, kRotationTolerance)) {
-      rotation = *near;
-      approximate = true;
-    } else if (!carried) {
-      carried = PartRole::ScaledOrSheared;
-    }
-    std::optional<std::array<double, 9>> turn;
-    std::optional<FramedPart> framed;
-    if (!carried) {
-      turn = quarter_turn(rotation, kQuarterTurnTolerance);
-      if (!turn) framed = turned_frame(model, p, model_turn);
-      if (!turn && !framed) framed = part_turns.place(rotation, placed);
-      if (!turn && !framed) carried = PartRole::TurnedOffQuarter;
-    }
-    Pose pose;
-    pose.rotation = turn ? *turn : rotation;
-    pose.origin = placed.pos;
-    if (framed) pose = framed->pose;
-    // The slip brings studs onto the plates: a part with none, held on lines by pins, bars or
-    // clips (an exhaust pipe in a headlight brick's hole), stays where it is drawn.
-    const PartShape& shape = k->type.shape;
-    const bool on_plates = !shape.studs.empty() || !shape.receptacles.empty();
-    double slip = 0;
-    if (!carried && !framed && on_plates && std::abs(std::abs(pose.rotation[4]) - 1) < 1e-9) {
-      slip = plate_slip(placed.pos[1], plates);
-      pose.origin[1] += slip;
-    }
-    if (carried) {
-      if (!orthonormalized(placed.rot, kRotationTolerance)) pose.rotation = placed.rot;
-      out.assembly.carried.push_back(carried_part(k->type, *carried, p.color, source, pose));
+    const Placement at = place(model, p, placed, *k, model_turn, part_turns, plates);
+    if (at.carried) {
+      out.assembly.carried.push_back(carried_part(k->type, *at.carried, p.color, source, at.pose));
       out.carried_part.push_back(i);
       continue;
     }
-    if (slip != 0)
+    if (at.slip != 0)
       out.diagnostics.push_back(
           {ldraw::Severity::Warning, p.file, p.line,
            fmt::format("placed {:g} LDU {} the plates the model's other parts stand on: taken as "
                        "on them",
-                       std::abs(slip), slip > 0 ? "above" : "below")});
-    if (approximate && !framed)  // said where the verdict relies on it
+                       std::abs(at.slip), at.slip > 0 ? "above" : "below")});
+    if (at.approximate && !at.framed)  // said where the verdict relies on it
       out.diagnostics.push_back(
           {ldraw::Severity::Warning, p.file, p.line,
            "its matrix is a rotation only to 1e-2 (a few decimals): taken as the rotation it is "
@@ -421,8 +438,8 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     if (!type) type = &out.types->add(k->type);
     Brick b;
     b.type = type;
-    b.pose = pose;
-    if (framed) b.frame = framed->frame;
+    b.pose = at.pose;
+    if (at.framed) b.frame = at.framed->frame;
     b.color = p.color;
     b.source = source;
     b.fixed = std::find(fixed_parts.begin(), fixed_parts.end(), i) != fixed_parts.end();
