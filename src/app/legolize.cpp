@@ -165,15 +165,11 @@ struct PieceResult {
   double seconds_initialize = 0, seconds_refine = 0, seconds_supports = 0, seconds_order = 0;
 };
 
-PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings& s) {
-  PieceResult out;
-  out.lift = piece.lift;
-  out.objects = piece.objects;
-  out.voxels = piece.voxels;
-  auto t = Clock::now();
-  // Colours are traded only where the layout breaks apart or does not stand (--color-trade).
-  layout::MergeRules trading = *s.rules;
-  trading.trades = s.trades;
+// Layout initialization with thin parts joined (Algorithm 3): out.lay, and out.bottleneck where
+// no single connected layout was found.
+void lay_out(layout::Piece& piece, Random& rng, const PieceSettings& s,
+             const layout::MergeRules& trading, PieceResult& out) {
+  const auto t = Clock::now();
   layout::JoinedLayout joined =
       layout::initialize_joined(std::move(piece.target), trading, rng, s.connect);
   out.lay = std::move(joined.layout);
@@ -200,7 +196,14 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
         "no single connected layout after {} failed tries: {} parts that no brick joins",
         s.refine.fail_max, out.connect.components);
   }
-  t = Clock::now();
+}
+
+// Stability-aware refinement (Algorithm 7), then supports under what still hangs and a second
+// refinement around them. Whether the piece was refined at all.
+bool refine_and_support(Random& rng, const PieceSettings& s, const layout::MergeRules& trading,
+                        PieceResult& out) {
+  layout::Layout& lay = *out.lay;
+  auto t = Clock::now();
   const bool refining = out.connect.single && s.refine_layout;
   if (refining) {
     s.stage("refining");
@@ -254,20 +257,23 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
                           second.iterations, seconds_since(t)));
     }
   }
-  auto assemble = [&] {
-    out.la = layout::to_assembly(lay, *s.catalog, s.refine.inside_color, s.refine.loads,
-                                 s.refine.support_color);
-    out.support_bricks = 0;
-    for (const Brick& b : out.la.assembly.bricks) out.support_bricks += b.support;
-  };
-  assemble();
-  if (!refining) {
-    out.refined.initial = out.refined.final =
-        physics::analyze_stability(out.la.assembly, s.refine.stability);
-    out.stable = out.stable && out.refined.final.stable(s.min_cm);
-  }
-  // A building order in which every step stands (the paper's first limitation).
-  t = Clock::now();
+  return refining;
+}
+
+// The piece's layout as an assembly (out.la), its support bricks counted.
+void assemble(const PieceSettings& s, PieceResult& out) {
+  out.la = layout::to_assembly(*out.lay, *s.catalog, s.refine.inside_color, s.refine.loads,
+                               s.refine.support_color);
+  out.support_bricks = 0;
+  for (const Brick& b : out.la.assembly.bricks) out.support_bricks += b.support;
+}
+
+// A building order in which every step stands (the paper's first limitation), with supports under
+// steps that fall. When the last stage of it began.
+Clock::time_point order_with_step_supports(const PieceSettings& s, bool refining,
+                                           PieceResult& out) {
+  layout::Layout& lay = *out.lay;
+  auto t = Clock::now();
   layout::BuildOrderOptions order = s.order;
   order.describe = [&out](int brick) { return describe_brick(out, brick); };
   out.order = layout::plan_build_order(out.la.assembly, order);
@@ -293,37 +299,57 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
                                 added.columns.end());
     out.supports.voxels += added.voxels;
     out.supports.analyses += added.analyses;
-    assemble();
+    assemble(s, out);
     out.refined.final = physics::analyze_stability(out.la.assembly, s.refine.stability);
     out.stable = out.refined.final.stable(s.min_cm);
     out.seconds_supports += seconds_since(t);
     out.order = layout::plan_build_order(out.la.assembly, order);
   }
+  return t;
+}
+
+// Where the finished piece fails, as a builder finds it: the brick, its voxel (as --load names it)
+// and the step that places it.
+std::string bottleneck_words(const PieceResult& out) {
+  const auto& f = out.refined.final;
+  auto placed = [&](int brick) {
+    return brick < 0 ? describe_brick(out, brick)
+                     : fmt::format("{} (step {})", describe_brick(out, brick),
+                                   out.order.step_of[size_t(brick)]);
+  };
+  if (!f.weakest.empty())
+    return placed(f.weakest.front().lower) + " holding " + placed(f.weakest.front().upper);
+  if (!f.unbalanced.empty()) {
+    std::vector<std::string> shown;
+    for (size_t k = 0; k < std::min<size_t>(f.unbalanced.size(), 3); ++k)
+      shown.push_back(placed(f.unbalanced[k]));
+    return named_few(shown, f.unbalanced.size()) + ": no forces hold " +
+           (f.unbalanced.size() == 1 ? "it" : "them") + " up (tipping or hanging)";
+  }
+  return physics::to_string(f.status);
+}
+
+PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings& s) {
+  PieceResult out;
+  out.lift = piece.lift;
+  out.objects = piece.objects;
+  out.voxels = piece.voxels;
+  // Colours are traded only where the layout breaks apart or does not stand (--color-trade).
+  layout::MergeRules trading = *s.rules;
+  trading.trades = s.trades;
+  lay_out(piece, rng, s, trading, out);
+  const bool refining = refine_and_support(rng, s, trading, out);
+  assemble(s, out);
+  if (!refining) {
+    out.refined.initial = out.refined.final =
+        physics::analyze_stability(out.la.assembly, s.refine.stability);
+    out.stable = out.stable && out.refined.final.stable(s.min_cm);
+  }
+  const auto t = order_with_step_supports(s, refining, out);
   // What this piece uses is not there for the next (after the refinement and the supports,
   // which may change it).
-  s.rules->limits.use_up(lay);
-  // Where it fails, as a builder finds it: the brick, its voxel (as --load names it) and the step
-  // that places it.
-  if (!out.stable && out.bottleneck.empty()) {
-    const auto& f = out.refined.final;
-    auto placed = [&](int brick) {
-      return brick < 0 ? describe_brick(out, brick)
-                       : fmt::format("{} (step {})", describe_brick(out, brick),
-                                     out.order.step_of[size_t(brick)]);
-    };
-    if (!f.weakest.empty()) {
-      out.bottleneck =
-          placed(f.weakest.front().lower) + " holding " + placed(f.weakest.front().upper);
-    } else if (!f.unbalanced.empty()) {
-      std::vector<std::string> shown;
-      for (size_t k = 0; k < std::min<size_t>(f.unbalanced.size(), 3); ++k)
-        shown.push_back(placed(f.unbalanced[k]));
-      out.bottleneck = named_few(shown, f.unbalanced.size()) + ": no forces hold " +
-                       (f.unbalanced.size() == 1 ? "it" : "them") + " up (tipping or hanging)";
-    } else {
-      out.bottleneck = physics::to_string(f.status);
-    }
-  }
+  s.rules->limits.use_up(*out.lay);
+  if (!out.stable && out.bottleneck.empty()) out.bottleneck = bottleneck_words(out);
   const std::vector<int> moved = layout::apply_build_order(out.la.assembly, out.order);
   std::vector<int> layout_id(moved.size());
   for (size_t k = 0; k < moved.size(); ++k) layout_id[k] = out.la.layout_id[size_t(moved[k])];
@@ -339,7 +365,7 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
                                 cm_words(out.order.min_cm_gf()),
                             out.order.analyses, out.order.certified_steps(), out.order.seconds)
               : fmt::format("build order: {} steps, not analysed", out.order.steps.size()));
-  out.colours = layout::color_changes(lay);
+  out.colours = layout::color_changes(*out.lay);
   // Where the piece was lowered from: its bricks go back there in the model.
   out.la.assembly.origin_ldu[1] -= out.lift * kPlatesPerBrick * kLduPerPlate;
   return out;
