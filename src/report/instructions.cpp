@@ -224,31 +224,83 @@ std::string parts_one_by_one(const std::vector<std::pair<std::string, int>>& kin
   return with_embedded("parts.ldr", out, embedded);
 }
 
-Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& library,
-                const BookletProgress& progress) {
-  Pictures out;
-  if (!have("leocad")) {
-    out.note = "LeoCAD is not installed (Debian package leocad): the booklet has no pictures.";
-    return out;
-  }
+// Why the booklet can have no pictures here (no LeoCAD, no display and no xvfb-run, too little
+// room on the disk), or nothing.
+std::optional<std::string> no_pictures(const fs::path& dir, const Booklet& booklet) {
+  if (!have("leocad"))
+    return "LeoCAD is not installed (Debian package leocad): the booklet has no pictures.";
   const bool display = std::getenv("DISPLAY") && *std::getenv("DISPLAY");
-  if (!display && !have("xvfb-run")) {
-    out.note =
-        "LeoCAD needs a display and xvfb-run is not installed (Debian package xvfb): the "
-        "booklet has no pictures.";
-    return out;
-  }
+  if (!display && !have("xvfb-run"))
+    return "LeoCAD needs a display and xvfb-run is not installed (Debian package xvfb): the "
+           "booklet has no pictures.";
   // LeoCAD on a full disk waits for room until its time limit: no pictures are tried without room
   // for them.
   struct statvfs room {};
   const uintmax_t needed = (booklet.steps.size() + 1) * kPictureBytes;
-  if (::statvfs(dir.c_str(), &room) == 0 && uintmax_t(room.f_bavail) * room.f_frsize < needed) {
-    out.note = fmt::format(
+  if (::statvfs(dir.c_str(), &room) == 0 && uintmax_t(room.f_bavail) * room.f_frsize < needed)
+    return fmt::format(
         "The disk beside the booklet has {} MB free and its pictures need about {} MB: the booklet "
         "has no pictures.",
         uintmax_t(room.f_bavail) * room.f_frsize >> 20, (needed >> 20) + 1);
+  return std::nullopt;
+}
+
+// LeoCAD's pictures in `scratch` moved into `dir` under the booklet's names (step-NNN.png by the
+// booklet's step number, part-NNN.png, falls-NNN.png) and listed in `out`. `last`: LeoCAD's last
+// step, which a run of one step renders without a number.
+void collect_pictures(const fs::path& scratch, const fs::path& dir, const Booklet& booklet,
+                      const std::vector<std::pair<std::string, int>>& kinds, int last,
+                      Pictures& out) {
+  auto number_of = [&](int leocad_step) {
+    return leocad_step >= 1 && leocad_step <= int(booklet.steps.size())
+               ? booklet.steps[size_t(leocad_step - 1)].number
+               : 0;
+  };
+  std::error_code ec;
+  // Which picture of a LeoCAD run `name` is: its number, or 0 for `single` (a run of one step
+  // renders to the name given, of several to the name with the step's number).
+  static const std::regex step_numbered(R"(step(\d+)\.png)"), part_numbered(R"(part(\d+)\.png)"),
+      falls_numbered(R"(falls(\d+)\.png)");
+  auto rendered = [](const std::string& name, const std::regex& numbered,
+                     const char* single) -> std::optional<int> {
+    std::smatch m;
+    if (std::regex_match(name, m, numbered)) return std::stoi(m[1]);
+    if (name == single) return 0;
+    return std::nullopt;
+  };
+  for (const auto& e : fs::directory_iterator(scratch)) {
+    const std::string name = e.path().filename().string();
+    if (const auto k = rendered(name, part_numbered, "part.png")) {
+      const size_t index = *k == 0 ? 0 : size_t(*k) - 1;
+      if (index >= kinds.size()) continue;
+      const std::string target = fmt::format("part-{:03}.png", index + 1);
+      fs::rename(e.path(), dir / target, ec);
+      if (!ec) out.part[kinds[index]] = target;
+    } else if (const auto k = rendered(name, falls_numbered, "falls.png")) {
+      const size_t index = *k == 0 ? 0 : size_t(*k) - 1;
+      if (index >= booklet.falls_steps.size()) continue;
+      const int step = booklet.falls_steps[index];
+      const std::string target = fmt::format("falls-{:03}.png", step);
+      fs::rename(e.path(), dir / target, ec);
+      if (!ec) out.falls[step] = target;
+    } else if (const auto n = rendered(name, step_numbered, "step.png")) {
+      const int step = number_of(*n == 0 ? last : *n);
+      if (step <= 0) continue;
+      const std::string target = fmt::format("step-{:03}.png", step);
+      fs::rename(e.path(), dir / target, ec);
+      if (!ec) out.step[step] = target;
+    }
+  }
+}
+
+Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& library,
+                const BookletProgress& progress) {
+  Pictures out;
+  if (auto why = no_pictures(dir, booklet)) {
+    out.note = *why;
     return out;
   }
+  const bool display = std::getenv("DISPLAY") && *std::getenv("DISPLAY");
   const fs::path scratch = dir / ".render";
   std::error_code ec;
   fs::remove_all(scratch, ec);
@@ -256,11 +308,6 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& lib
   // The booklet's own steps: LeoCAD's step k is the booklet's k-th.
   const fs::path shown = scratch / "steps.ldr";
   ldraw::write_file_atomically(shown, with_embedded("steps.ldr", booklet.drawn, booklet.embedded));
-  auto number_of = [&](int leocad_step) {
-    return leocad_step >= 1 && leocad_step <= int(booklet.steps.size())
-               ? booklet.steps[size_t(leocad_step - 1)].number
-               : 0;
-  };
   const int last = std::max<int>(1, int(booklet.steps.size()));
   // Steps: the booklet's steps, new parts highlighted; Whole: the cover; Alone: each step's
   // parts without what came before; Falls: each picture of what falls, as drawn.
@@ -304,40 +351,7 @@ Pictures render(const fs::path& dir, const Booklet& booklet, const fs::path& lib
     ldraw::write_file_atomically(scratch / "parts.ldr", parts_one_by_one(kinds, booklet.embedded));
     leocad(scratch / "parts.ldr", "part.png", 1, int(kinds.size()), Look::Alone);
   }
-  // Which picture of a LeoCAD run `name` is: its number, or 0 for `single` (a run of one step
-  // renders to the name given, of several to the name with the step's number).
-  static const std::regex step_numbered(R"(step(\d+)\.png)"), part_numbered(R"(part(\d+)\.png)"),
-      falls_numbered(R"(falls(\d+)\.png)");
-  auto rendered = [](const std::string& name, const std::regex& numbered,
-                     const char* single) -> std::optional<int> {
-    std::smatch m;
-    if (std::regex_match(name, m, numbered)) return std::stoi(m[1]);
-    if (name == single) return 0;
-    return std::nullopt;
-  };
-  for (const auto& e : fs::directory_iterator(scratch)) {
-    const std::string name = e.path().filename().string();
-    if (const auto k = rendered(name, part_numbered, "part.png")) {
-      const size_t index = *k == 0 ? 0 : size_t(*k) - 1;
-      if (index >= kinds.size()) continue;
-      const std::string target = fmt::format("part-{:03}.png", index + 1);
-      fs::rename(e.path(), dir / target, ec);
-      if (!ec) out.part[kinds[index]] = target;
-    } else if (const auto k = rendered(name, falls_numbered, "falls.png")) {
-      const size_t index = *k == 0 ? 0 : size_t(*k) - 1;
-      if (index >= booklet.falls_steps.size()) continue;
-      const int step = booklet.falls_steps[index];
-      const std::string target = fmt::format("falls-{:03}.png", step);
-      fs::rename(e.path(), dir / target, ec);
-      if (!ec) out.falls[step] = target;
-    } else if (const auto n = rendered(name, step_numbered, "step.png")) {
-      const int step = number_of(*n == 0 ? last : *n);
-      if (step <= 0) continue;
-      const std::string target = fmt::format("step-{:03}.png", step);
-      fs::rename(e.path(), dir / target, ec);
-      if (!ec) out.step[step] = target;
-    }
-  }
+  collect_pictures(scratch, dir, booklet, kinds, last, out);
   if (cover_ok && fs::exists(scratch / "cover.png")) {
     fs::rename(scratch / "cover.png", dir / "cover.png", ec);
     if (!ec) out.cover = "cover.png";
