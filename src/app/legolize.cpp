@@ -785,6 +785,30 @@ std::vector<PieceResult> convert_pieces(const Run& run, Plan& p,
   return results;
 }
 
+// A piece's build steps in the report, numbered after those of the pieces before it; a step
+// that falls with where its falling bricks are in the written model.
+void add_steps(const PieceResult& r, report::ConversionReport& rep) {
+  for (size_t st = 0; st < r.order.steps.size(); ++st) {
+    const layout::BuildStep& bs = r.order.steps[st];
+    rep.steps.push_back({int(rep.steps.size()) + 1,
+                         bs.new_bricks,
+                         bs.bricks,
+                         bs.status == physics::StabilityStatus::Solved
+                             ? bs.cm_gf
+                             : -std::numeric_limits<double>::infinity(),
+                         bs.analysed,
+                         bs.stands,
+                         bs.why,
+                         bs.certified,
+                         int(st) < r.order.supports_steps,
+                         {}});
+    const Assembly& placed = r.la.assembly;
+    for (int b : bs.falling)
+      rep.steps.back().falling_at.push_back(
+          ldraw::brick_transform(placed.bricks[size_t(b)], placed.origin_ldu).pos);
+  }
+}
+
 // The report: the model's numbers are its pieces' together, its C_M the weakest piece's, whose
 // index is returned.
 size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
@@ -825,25 +849,7 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
     if (!r.stable && rep.bottleneck.empty())
       rep.bottleneck =
           results.size() > 1 ? fmt::format("piece {}: {}", k + 1, r.bottleneck) : r.bottleneck;
-    for (size_t st = 0; st < r.order.steps.size(); ++st) {
-      const layout::BuildStep& bs = r.order.steps[st];
-      rep.steps.push_back({int(rep.steps.size()) + 1,
-                           bs.new_bricks,
-                           bs.bricks,
-                           bs.status == physics::StabilityStatus::Solved
-                               ? bs.cm_gf
-                               : -std::numeric_limits<double>::infinity(),
-                           bs.analysed,
-                           bs.stands,
-                           bs.why,
-                           bs.certified,
-                           int(st) < r.order.supports_steps,
-                           {}});
-      const Assembly& placed = r.la.assembly;
-      for (int b : bs.falling)
-        rep.steps.back().falling_at.push_back(
-            ldraw::brick_transform(placed.bricks[size_t(b)], placed.origin_ldu).pos);
-    }
+    add_steps(r, rep);
     // A piece built apart (only with --no-supports: layout/pieces.h) floats where the mesh puts
     // it, whatever it is alone: brickcheck says so of the file, and so do we.
     if (!r.grounded()) {
