@@ -77,6 +77,89 @@ struct Candidate {
   double bound_seconds = 0;
 };
 
+// A round of `count` candidates, made one after another on the layout, each undone after it is
+// recorded, so every candidate starts from the current layout (Algorithm 7's reconfiguration).
+std::vector<Candidate> make_round(Layout& layout, const BrickCatalog& catalog,
+                                  const MergeRules& rules, Random& rng,
+                                  const RefineOptions& options, const std::vector<int>& critical,
+                                  int fails, size_t count, RefineResult& out) {
+  std::vector<Candidate> round(count);
+  for (size_t c = 0; c < round.size(); ++c) {
+    ++out.iterations;
+    layout.begin_edit();
+    reconfigure(layout, critical, ring_size(fails + int(c), options.ring_step), rules, rng);
+    round[c].random_pick = size_t(rng.next());
+    round[c].connected = analyze_components(layout, rng, options.ground_connects).count == 1;
+    if (round[c].connected) {
+      round[c].edit = layout.open_edit();
+      round[c].assembly =
+          to_assembly(layout, catalog, options.inside_color, options.loads, options.support_color);
+    } else {
+      ++out.rejected_disconnected;
+    }
+    layout.rollback();
+  }
+  return round;
+}
+
+// The round's connected candidates analysed at the same time (`side_by_side`), each on its own
+// assembly; first the local upper bound, which rules out most candidates for the cost of a small
+// LP. A candidate ruled out counts as not connected from here on: it cannot be chosen.
+void analyse_round(std::vector<Candidate>& round, const Assembly& current_assembly,
+                   const Analysis& current, double cm, int depth, const RefineOptions& options,
+                   bool side_by_side, RefineResult& out) {
+  auto analyse = [&](Candidate& c) {
+    if (options.bound_ring >= 0) {
+      const physics::CmBounds bounds =
+          physics::bound_cm_locally(current_assembly, current.result, c.assembly.assembly,
+                                    {.ring = options.bound_ring,
+                                     .max_region_share = kMaxBoundRegionShare,
+                                     .lower = false,
+                                     .stability = options.stability});
+      c.bound_seconds = bounds.seconds;
+      c.ruled_out = bounds.valid && bounds.upper_gf() <= cm + kMeaningfulGain;
+      if (c.ruled_out) return;
+    }
+    c.analysis = analyze(c.assembly.assembly, depth, options, c.random_pick);
+  };
+  std::vector<std::thread> threads;
+  for (size_t c = 1; c < round.size(); ++c)
+    if (round[c].connected) {
+      if (side_by_side)
+        threads.emplace_back(analyse, std::ref(round[c]));
+      else
+        analyse(round[c]);
+    }
+  if (round[0].connected) analyse(round[0]);
+  for (auto& th : threads) th.join();
+  for (Candidate& c : round) {
+    if (!c.connected) continue;
+    out.bound_seconds += c.bound_seconds;
+    if (c.ruled_out) {
+      c.connected = false;
+      ++out.rejected_by_bound;
+    } else {
+      ++out.lp_solves;
+    }
+  }
+}
+
+// The best candidate that beats C_M `cm` by more than the analysis' accuracy (C_M to 1e-6
+// relative; smaller gains are noise); the earliest among those within that accuracy of the best,
+// so last-bit differences never choose. -1: none.
+int best_of(const std::vector<Candidate>& round, double cm) {
+  double top = -std::numeric_limits<double>::infinity();
+  for (const Candidate& c : round)
+    if (c.connected) top = std::max(top, comparable_cm_gf(c.analysis.result));
+  int best = -1;
+  for (size_t c = 0; c < round.size() && best < 0; ++c) {
+    const double candidate_cm =
+        round[c].connected ? comparable_cm_gf(round[c].analysis.result) : top - 1;
+    if (candidate_cm > cm + kMeaningfulGain && candidate_cm > top - kMeaningfulGain) best = int(c);
+  }
+  return best;
+}
+
 }  // namespace
 
 RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const MergeRules& rules,
@@ -112,75 +195,11 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
       out.out_of_time = true;
       break;
     }
-    // Make the round's candidates one after another on the layout, each undone after it is
-    // recorded, so every candidate starts from the current layout.
-    const std::vector<int> critical = critical_ids(layout, current);
-    std::vector<Candidate> round(size_t(std::min(per_round, options.fail_max - fails)));
-    for (size_t c = 0; c < round.size(); ++c) {
-      ++out.iterations;
-      layout.begin_edit();
-      reconfigure(layout, critical, ring_size(fails + int(c), options.ring_step), rules, rng);
-      round[c].random_pick = size_t(rng.next());
-      round[c].connected = analyze_components(layout, rng, options.ground_connects).count == 1;
-      if (round[c].connected) {
-        round[c].edit = layout.open_edit();
-        round[c].assembly = to_assembly(layout, catalog, options.inside_color, options.loads,
-                                        options.support_color);
-      } else {
-        ++out.rejected_disconnected;
-      }
-      layout.rollback();
-    }
-    // Analyse them at the same time, each on its own assembly; first the local upper bound,
-    // which rules out most candidates for the cost of a small LP.
-    auto analyse = [&](Candidate& c) {
-      if (options.bound_ring >= 0) {
-        const physics::CmBounds bounds =
-            physics::bound_cm_locally(current_assembly, current.result, c.assembly.assembly,
-                                      {.ring = options.bound_ring,
-                                       .max_region_share = kMaxBoundRegionShare,
-                                       .lower = false,
-                                       .stability = options.stability});
-        c.bound_seconds = bounds.seconds;
-        c.ruled_out = bounds.valid && bounds.upper_gf() <= cm + kMeaningfulGain;
-        if (c.ruled_out) return;
-      }
-      c.analysis = analyze(c.assembly.assembly, layout.depth(), options, c.random_pick);
-    };
-    std::vector<std::thread> threads;
-    for (size_t c = 1; c < round.size(); ++c)
-      if (round[c].connected) {
-        if (side_by_side)
-          threads.emplace_back(analyse, std::ref(round[c]));
-        else
-          analyse(round[c]);
-      }
-    if (round[0].connected) analyse(round[0]);
-    for (auto& th : threads) th.join();
-    for (Candidate& c : round) {
-      if (!c.connected) continue;
-      out.bound_seconds += c.bound_seconds;
-      // A ruled-out candidate counts as not connected from here on: it cannot be chosen.
-      if (c.ruled_out) {
-        c.connected = false;
-        ++out.rejected_by_bound;
-      } else {
-        ++out.lp_solves;
-      }
-    }
-    // The best candidate that beats the current layout by more than the analysis' accuracy
-    // (C_M to 1e-6 relative; smaller gains are noise); the earliest among those within that
-    // accuracy of the best, so last-bit differences never choose.
-    double top = -std::numeric_limits<double>::infinity();
-    for (const Candidate& c : round)
-      if (c.connected) top = std::max(top, comparable_cm_gf(c.analysis.result));
-    int best = -1;
-    for (size_t c = 0; c < round.size() && best < 0; ++c) {
-      const double candidate_cm =
-          round[c].connected ? comparable_cm_gf(round[c].analysis.result) : top - 1;
-      if (candidate_cm > cm + kMeaningfulGain && candidate_cm > top - kMeaningfulGain)
-        best = int(c);
-    }
+    std::vector<Candidate> round =
+        make_round(layout, catalog, rules, rng, options, critical_ids(layout, current), fails,
+                   size_t(std::min(per_round, options.fail_max - fails)), out);
+    analyse_round(round, current_assembly, current, cm, layout.depth(), options, side_by_side, out);
+    const int best = best_of(round, cm);
     const double best_cm = best >= 0 ? comparable_cm_gf(round[size_t(best)].analysis.result) : cm;
     if (best >= 0) {
       layout.begin_edit();
