@@ -406,6 +406,10 @@ void solve_weakest_step_exactly(const Assembly& a, const BuildOrderOptions& opti
 
 }  // namespace
 
+// One loop of ~120 lines, for a reason: the planner, the step analysed ahead, the best attempt at
+// a falling step with the holding back that led to it, and the repairs so far are read and
+// changed by every branch of it; the work of each branch is in functions already (Planner,
+// analyse_step, culprits_of, solve_weakest_step_exactly).
 BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   BuildOrder out;

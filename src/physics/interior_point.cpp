@@ -114,6 +114,11 @@ void keep_freed_memory() {
 
 }  // namespace
 
+// One function of ~380 lines, for a reason: Mehrotra's iteration keeps about twenty vectors (the
+// point, its slacks and multipliers, the residuals, the directions of the predictor and the
+// corrector, the best point so far) that every step reads and writes, and the attempt without the
+// dependent rows runs the same iteration again. The linear algebra it calls is in
+// normal_equations.h; what is left here is the method as the literature writes it, in one place.
 IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
   const auto entry = std::chrono::steady_clock::now();
   keep_freed_memory();
