@@ -149,6 +149,59 @@ LayoutAssembly judged(const Layout& layout, const BrickCatalog& catalog, const S
              : to_assembly(placed_only(layout, step), catalog, o.inside_color, {}, o.support_color);
 }
 
+// A column built on a copy of the layout, and the analysis of what is judged with it.
+struct Trial {
+  Layout layout;
+  LayoutAssembly la;
+  physics::StabilityResult result;
+};
+
+// Each of `tried` on a copy of the layout, two at a time with o.side_by_side; none where a column
+// is beyond the limits.
+std::vector<std::optional<Trial>> try_columns(const Layout& layout,
+                                              const std::vector<SupportColumn>& tried,
+                                              const BrickCatalog& catalog, const SupportOptions& o,
+                                              const PlacedBricks& step) {
+  std::vector<std::optional<Trial>> trials(tried.size());
+  auto run = [&](size_t k) {
+    Trial t{layout, {}, {}};
+    if (!build_column(t.layout, tried[k], o.limits)) return;
+    t.la = judged(t.layout, catalog, o, step);
+    t.result = physics::analyze_stability(t.la.assembly, o.stability);
+    trials[k] = std::move(t);
+  };
+  for (size_t k = 0; k < tried.size(); k += o.side_by_side ? 2 : 1) {
+    if (o.side_by_side && k + 1 < tried.size()) {
+      std::thread second(run, k + 1);
+      run(k);
+      second.join();
+    } else {
+      run(k);
+    }
+  }
+  return trials;
+}
+
+// The best column against C_M `cm`: the largest C_M, or as good with the weak place `place` no
+// longer the weakest. The first of equals, so that the result does not depend on threads.
+std::optional<size_t> best_column(const std::vector<std::optional<Trial>>& trials, double cm,
+                                  int place) {
+  std::optional<size_t> best;
+  double best_cm = -std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < trials.size(); ++k) {
+    if (!trials[k]) continue;  // beyond the limits
+    const double now = comparable_cm_gf(trials[k]->result);
+    const std::vector<int> still = weak_places(trials[k]->result, trials[k]->la);
+    const bool moved =
+        std::isfinite(now) && now >= cm - 1e-9 && (still.empty() || still.front() != place);
+    if ((now > cm + 1e-9 || moved) && (!best || now > best_cm + 1e-9)) {
+      best = k;
+      best_cm = now;
+    }
+  }
+  return best;
+}
+
 // add_supports from the judged model `la` as it is and its analysis `current`.
 SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAssembly la,
                           const physics::StabilityResult& current, const SupportOptions& o,
@@ -157,7 +210,6 @@ SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAss
   const physics::OneBlasThreadEach blas_threads(o.side_by_side);
   SupportResult out;
   out.final = current;
-  auto assemble = [&](const Layout& l) { return judged(l, catalog, o, step); };
   out.stable = out.final.stable(o.min_cm_gf);
   // As it was after the last column that raised C_M. Columns that only move the weakest place
   // elsewhere are kept while a next one may raise it (two legs as weak as each other), at most
@@ -198,45 +250,11 @@ SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAss
       }
       const std::vector<SupportColumn> tried =
           columns_to_try(layout, possible, layout.brick(places[p]), tries);
-      struct Trial {
-        Layout layout;
-        LayoutAssembly la;
-        physics::StabilityResult result;
-      };
-      std::vector<std::optional<Trial>> trials(tried.size());
-      auto run = [&](size_t k) {
-        Trial t{layout, {}, {}};
-        if (!build_column(t.layout, tried[k], o.limits)) return;
-        t.la = assemble(t.layout);
-        t.result = physics::analyze_stability(t.la.assembly, o.stability);
-        trials[k] = std::move(t);
-      };
-      for (size_t k = 0; k < tried.size(); k += o.side_by_side ? 2 : 1) {
-        if (o.side_by_side && k + 1 < tried.size()) {
-          std::thread second(run, k + 1);
-          run(k);
-          second.join();
-        } else {
-          run(k);
-        }
-      }
+      std::vector<std::optional<Trial>> trials = try_columns(layout, tried, catalog, o, step);
       out.analyses += int(tried.size());
-      // The best column: the largest C_M, or as good with this weak place no longer the weakest.
-      // The first of equals, so that the result does not depend on threads.
-      std::optional<size_t> best;
-      double best_cm = -std::numeric_limits<double>::infinity();
-      for (size_t k = 0; k < trials.size(); ++k) {
-        if (!trials[k]) continue;  // beyond the limits
-        const double now = comparable_cm_gf(trials[k]->result);
-        const std::vector<int> still = weak_places(trials[k]->result, trials[k]->la);
-        const bool moved =
-            std::isfinite(now) && now >= cm - 1e-9 && (still.empty() || still.front() != places[p]);
-        if ((now > cm + 1e-9 || moved) && (!best || now > best_cm + 1e-9)) {
-          best = k;
-          best_cm = now;
-        }
-      }
+      const std::optional<size_t> best = best_column(trials, cm, places[p]);
       if (!best) continue;
+      const double best_cm = comparable_cm_gf(trials[*best]->result);
       Trial& t = *trials[*best];
       layout = std::move(t.layout);
       la = std::move(t.la);
