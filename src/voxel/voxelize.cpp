@@ -49,14 +49,9 @@ bool overlaps(const std::array<V, 3>& tri, const V& c) {
   return std::abs(dot(n, v0)) <= r;
 }
 
-}  // namespace
-
-size_t VoxelGrid::count(Cell c) const {
-  return size_t(std::count(cells.begin(), cells.end(), c));
-}
-
-VoxelGrid voxelize(const mesh::Mesh& m, const VoxelizeOptions& o) {
-  VoxelGrid g;
+// The grid's voxel size (a brick's height, a stud's width) from --height, --size or --scale, and
+// its cells, all empty; a grid beyond the budget is refused.
+void size_grid(const mesh::Mesh& m, const VoxelizeOptions& o, VoxelGrid& g) {
   const double ex = m.max.x - m.min.x, ey = m.max.y - m.min.y, ez = m.max.z - m.min.z;
   if (!(ey > 0) && !(ex > 0) && !(ez > 0)) throw InputError(m.source, 0, "the mesh has no extent");
   // A brick is 24 LDU high, a stud 20 LDU wide: a voxel is 1.2 times taller than wide.
@@ -95,15 +90,21 @@ VoxelGrid voxelize(const mesh::Mesh& m, const VoxelizeOptions& o) {
   g.width = int(width), g.height = int(height), g.depth = int(depth);
   g.cells.assign(size_t(total), Cell::Empty);
   g.color.assign(size_t(total), mesh::Rgb{0, 0, 0});
-  std::vector<double> weight(size_t(total), 0.0);
+}
+
+V to_grid(const VoxelGrid& g, const mesh::Vec3& p) {
+  return {(p.x - g.origin.x) / g.stud, (p.y - g.origin.y) / g.brick, (p.z - g.origin.z) / g.stud};
+}
+
+// Every voxel a triangle overlaps is surface, coloured by the area-weighted mean of the mesh's
+// colours in it.
+void mark_surface(const mesh::Mesh& m, VoxelGrid& g) {
+  std::vector<double> weight(g.cells.size(), 0.0);
   // The mean color of the first triangle touching a voxel, for voxels no sample point falls in.
   std::vector<mesh::Rgb> fallback(g.cells.size());
 
-  auto to_grid = [&](const mesh::Vec3& p) -> V {
-    return {(p.x - g.origin.x) / g.stud, (p.y - g.origin.y) / g.brick, (p.z - g.origin.z) / g.stud};
-  };
   for (const auto& t : m.triangles) {
-    const std::array<V, 3> tri = {to_grid(t.v[0]), to_grid(t.v[1]), to_grid(t.v[2])};
+    const std::array<V, 3> tri = {to_grid(g, t.v[0]), to_grid(g, t.v[1]), to_grid(g, t.v[2])};
     int lo[3], hi[3];
     const int size[3] = {g.width, g.height, g.depth};
     for (int a = 0; a < 3; ++a) {
@@ -165,15 +166,17 @@ VoxelGrid voxelize(const mesh::Mesh& m, const VoxelizeOptions& o) {
       g.color[id] = fallback[id];  // a sliver of surface that no sample point fell into
     }
   }
+}
 
-  // Inside: ray parity along each axis through voxel centres, then a majority of the three.
+// Inside: ray parity along each axis through voxel centres, then a majority of the three.
+void mark_inside(const mesh::Mesh& m, VoxelGrid& g) {
   std::vector<uint8_t> votes(g.cells.size(), 0);
   const int size[3] = {g.width, g.height, g.depth};
   for (int a = 0; a < 3; ++a) {
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     std::vector<std::vector<double>> hits(static_cast<size_t>(size[b]) * size[c]);
     for (const auto& t : m.triangles) {
-      const std::array<V, 3> tri = {to_grid(t.v[0]), to_grid(t.v[1]), to_grid(t.v[2])};
+      const std::array<V, 3> tri = {to_grid(g, t.v[0]), to_grid(g, t.v[1]), to_grid(g, t.v[2])};
       const double area = (tri[1][b] - tri[0][b]) * (tri[2][c] - tri[0][c]) -
                           (tri[2][b] - tri[0][b]) * (tri[1][c] - tri[0][c]);
       if (std::abs(area) < 1e-12) continue;  // edge-on to this axis
@@ -218,6 +221,19 @@ VoxelGrid voxelize(const mesh::Mesh& m, const VoxelizeOptions& o) {
   }
   for (size_t id = 0; id < g.cells.size(); ++id)
     if (g.cells[id] == Cell::Empty && votes[id] >= 2) g.cells[id] = Cell::Inside;
+}
+
+}  // namespace
+
+size_t VoxelGrid::count(Cell c) const {
+  return size_t(std::count(cells.begin(), cells.end(), c));
+}
+
+VoxelGrid voxelize(const mesh::Mesh& m, const VoxelizeOptions& o) {
+  VoxelGrid g;
+  size_grid(m, o, g);
+  mark_surface(m, g);
+  mark_inside(m, g);
   return g;
 }
 
