@@ -117,6 +117,167 @@ std::vector<Vec3> moment_axes(const Contact& c) {
   return {u, v};
 }
 
+// A contact's points and directions in the model's frame (studs), where it is turned.
+Vec3 point_of(const Assembly& a, const Contact& c, const Vec3& ldu) {
+  return studs(c.turned ? to_model(a.bricks[size_t(c.upper)], ldu) : ldu);
+}
+Vec3 model_direction(const Assembly& a, const Contact& c, const Vec3& d) {
+  return c.turned ? to_model_direction(a.bricks[size_t(c.upper)], d) : d;
+}
+
+void add_friction_columns(const Assembly& a, const ContactGraph& g, const std::vector<char>& taken,
+                          const Formulation& model, Builder& b) {
+  // Friction pulls the upper part towards the lower one, at the knob rim. A column's value is
+  // the force over the point's share of T (knob_grip.h), so that every friction column is
+  // bounded by T alike: the LP's C_M is T less the largest of those values. A friction pin's
+  // grip is such a column each way, its moment about the pin kFrictionPinMoment at T.
+  for (int ci = 0; ci < int(g.contacts.size()); ++ci) {
+    if (!taken[size_t(ci)]) continue;
+    const Contact& c = g.contacts[size_t(ci)];
+    if (c.joint && c.joint_kind == Contact::Kind::Turns && c.joint_friction &&
+        !model.turning_joints_hold) {
+      for (double sign : {1.0, -1.0}) {
+        const double m = sign * kFrictionPinMoment / kMaxFrictionLoad;
+        const Vec3 e{c.joint_axis[0] * m, c.joint_axis[1] * m, c.joint_axis[2] * m};
+        b.apply_moment(c.upper, e);
+        b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
+        b.end_column(ForceKind::Friction, ci);
+      }
+      continue;
+    }
+    const Vec3 d = model_direction(a, c, unit(axis_of(c.direction), sign_of(c.direction)));
+    for (uint32_t k = 0; k < c.point_count; ++k) {
+      const FrictionPoint& p = g.friction_points[c.first_point + k];
+      const Vec3 at = point_of(a, c, {p.x, p.y, p.z});
+      const double share = model.knob_balance ? p.share : 1;
+      b.apply(c.upper, at, {-d[0] * share, -d[1] * share, -d[2] * share});
+      b.apply(c.lower, at, {d[0] * share, d[1] * share, d[2] * share});
+      b.end_column(ForceKind::Friction, ci);
+    }
+  }
+}
+
+// Pushes (normal forces) and the knobs' support forces and twists; a joint's free force and
+// moments.
+void add_push_and_support_columns(const Assembly& a, const ContactGraph& g,
+                                  const std::vector<char>& taken, const Formulation& model,
+                                  EquilibriumSystem& s, Builder& b) {
+  for (int ci = 0; ci < int(g.contacts.size()); ++ci) {
+    if (!taken[size_t(ci)]) continue;
+    const Contact& c = g.contacts[size_t(ci)];
+    if (c.joint) {  // any force and moment, both ways: free columns, like the support forces
+      const Vec3 at = studs(c.joint_point);
+      for (int a = 0; a < 3; ++a) {
+        const Vec3 e = unit(a, kJointUnit);
+        b.apply(c.upper, at, e);
+        b.apply(c.lower, at, {-e[0], -e[1], -e[2]});
+        b.end_column(ForceKind::Support, ci);
+      }
+      // A joint that turns holds no moment about its axis (its friction is taken as none).
+      for (const Vec3& m : moment_axes(c)) {
+        const Vec3 e{m[0] * kJointUnit, m[1] * kJointUnit, m[2] * kJointUnit};
+        b.apply_moment(c.upper, e);
+        b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
+        b.end_column(ForceKind::Support, ci);
+      }
+      if (c.joint_kind == Contact::Kind::Turns && model.turning_joints_hold) {
+        const Vec3& m = c.joint_axis;
+        const Vec3 e{m[0] * kJointUnit, m[1] * kJointUnit, m[2] * kJointUnit};
+        b.apply_moment(c.upper, e);
+        b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
+        s.turning_columns.push_back(s.columns());
+        b.end_column(ForceKind::Support, ci);
+      }
+      continue;
+    }
+    const int axis = axis_of(c.direction), f = kInPlane[axis][0], sd = kInPlane[axis][1];
+    const Vec3 d = model_direction(a, c, unit(axis, sign_of(c.direction)));
+    auto point = [&](double pf, double ps) {
+      Vec3 p{0, 0, 0};
+      p[size_t(axis)] = c.plane;
+      p[size_t(f)] = pf;
+      p[size_t(sd)] = ps;
+      return point_of(a, c, p);
+    };
+    // Normal forces at the corners of the patch push the two parts apart (or, to be measured
+    // against that, at the knobs' contacts).
+    if (model.push_at_knobs && c.point_count > 0) {
+      for (uint32_t k = 0; k < c.point_count; ++k) {
+        const FrictionPoint& p = g.friction_points[c.first_point + k];
+        const Vec3 at = point_of(a, c, {p.x, p.y, p.z});
+        b.apply(c.upper, at, d);
+        b.apply(c.lower, at, {-d[0], -d[1], -d[2]});
+        b.end_column(ForceKind::Normal, ci);
+      }
+    } else {
+      for (int corner = 0; corner < 4; ++corner) {
+        const Vec3 p =
+            point(corner & 1 ? c.patch.u1 : c.patch.u0, corner & 2 ? c.patch.v1 : c.patch.v0);
+        b.apply(c.upper, p, d);
+        b.apply(c.lower, p, {-d[0], -d[1], -d[2]});
+        b.end_column(ForceKind::Normal, ci);
+      }
+    }
+    // The support force of the knobs in the plane, where there are knobs or a ground to lean on.
+    if (c.support) {
+      const Vec3 mid = point((c.patch.u0 + c.patch.u1) / 2, (c.patch.v0 + c.patch.v1) / 2);
+      for (int in_plane : {f, sd}) {
+        const Vec3 e = model_direction(a, c, unit(in_plane));
+        b.apply(c.upper, mid, e);
+        b.apply(c.lower, mid, {-e[0], -e[1], -e[2]});
+        b.end_column(ForceKind::Support, ci);
+      }
+      // Two knobs or more, pressing sideways in their receptacles, also hold a twist about the
+      // knobs' axis, as the support force holds the push across it (knobs do not break); one
+      // knob turns in its receptacle.
+      if (c.studs >= 2 && model.knobs_hold_twist) {
+        const Vec3 e = model_direction(a, c, unit(axis, kJointUnit));
+        b.apply_moment(c.upper, e);
+        b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
+        b.end_column(ForceKind::Support, ci);
+      }
+    }
+  }
+}
+
+// b: gravity at each brick's centre and each carried part's, and external loads.
+void add_loads(const Assembly& a, const ContactGraph& g, const EquilibriumSystem& s,
+               const std::vector<Vec3>& brick_centre, Builder& b) {
+  const int n = int(a.bricks.size());
+  for (int i = 0; i < n; ++i)
+    if (const int body = s.body_of[size_t(i)]; body >= 0)
+      b.load(body, brick_centre[size_t(i)], {0, -a.bricks[size_t(i)].mass_g() * kGravity, 0});
+  for (const CarriedGroup& group : g.carried_groups) {
+    if (group.bearer < 0) continue;
+    const int body = s.body_of[size_t(group.bearer)];
+    if (body >= 0) b.load(body, studs(group.centre), {0, -group.mass_g * kGravity, 0});
+  }
+  for (const ExternalLoad& load : a.loads) {
+    if (load.brick < 0 || load.brick >= n) continue;
+    const int body = s.body_of[size_t(load.brick)];
+    if (body < 0) continue;
+    const Vec3 f{load.force_n[0] * 1e3, load.force_n[1] * 1e3, load.force_n[2] * 1e3};  // N -> mN
+    std::vector<Vec3> points;
+    if (load.spread_over_top_knobs) {
+      const Brick& brick = a.bricks[size_t(load.brick)];
+      const WorldShape w = world_shape(brick);
+      for (const Connector& k : w.studs)
+        if (k.direction == kPlusY) points.push_back(studs(to_model(brick, k.at)));
+      if (points.empty()) {  // no knob on top: the middle of its top face
+        Box top = w.body.front();
+        for (const Box& bx : w.body)
+          if (bx.max[1] > top.max[1]) top = bx;
+        points.push_back(studs(to_model(brick, Vec3{(top.min[0] + top.max[0]) / 2, top.max[1],
+                                                    (top.min[2] + top.max[2]) / 2})));
+      }
+    } else {
+      points.push_back({load.point[0], load.point[1] * kStudsPerPlate, load.point[2]});
+    }
+    const double share = 1.0 / double(points.size());
+    for (const Vec3& p : points) b.load(body, p, {f[0] * share, f[1] * share, f[2] * share});
+  }
+}
+
 }  // namespace
 
 EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
@@ -163,155 +324,13 @@ EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
   s.value.reserve(s.row_index.capacity());
   Builder b(s, centre);
 
-  // A contact's points and directions in the model's frame (studs), where it is turned.
-  auto point_of = [&](const Contact& c, const Vec3& ldu) {
-    return studs(c.turned ? to_model(a.bricks[size_t(c.upper)], ldu) : ldu);
-  };
-  auto model_direction = [&](const Contact& c, const Vec3& d) {
-    return c.turned ? to_model_direction(a.bricks[size_t(c.upper)], d) : d;
-  };
-
-  // Friction pulls the upper part towards the lower one, at the knob rim. A column's value is
-  // the force over the point's share of T (knob_grip.h), so that every friction column is
-  // bounded by T alike: the LP's C_M is T less the largest of those values. A friction pin's
-  // grip is such a column each way, its moment about the pin kFrictionPinMoment at T.
-  for (int ci = 0; ci < int(g.contacts.size()); ++ci) {
-    if (!taken[size_t(ci)]) continue;
-    const Contact& c = g.contacts[size_t(ci)];
-    if (c.joint && c.joint_kind == Contact::Kind::Turns && c.joint_friction &&
-        !model.turning_joints_hold) {
-      for (double sign : {1.0, -1.0}) {
-        const double m = sign * kFrictionPinMoment / kMaxFrictionLoad;
-        const Vec3 e{c.joint_axis[0] * m, c.joint_axis[1] * m, c.joint_axis[2] * m};
-        b.apply_moment(c.upper, e);
-        b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
-        b.end_column(ForceKind::Friction, ci);
-      }
-      continue;
-    }
-    const Vec3 d = model_direction(c, unit(axis_of(c.direction), sign_of(c.direction)));
-    for (uint32_t k = 0; k < c.point_count; ++k) {
-      const FrictionPoint& p = g.friction_points[c.first_point + k];
-      const Vec3 at = point_of(c, {p.x, p.y, p.z});
-      const double share = model.knob_balance ? p.share : 1;
-      b.apply(c.upper, at, {-d[0] * share, -d[1] * share, -d[2] * share});
-      b.apply(c.lower, at, {d[0] * share, d[1] * share, d[2] * share});
-      b.end_column(ForceKind::Friction, ci);
-    }
-  }
+  add_friction_columns(a, g, taken, model, b);
   s.friction_columns = s.columns();
 
-  for (int ci = 0; ci < int(g.contacts.size()); ++ci) {
-    if (!taken[size_t(ci)]) continue;
-    const Contact& c = g.contacts[size_t(ci)];
-    if (c.joint) {  // any force and moment, both ways: free columns, like the support forces
-      const Vec3 at = studs(c.joint_point);
-      for (int a = 0; a < 3; ++a) {
-        const Vec3 e = unit(a, kJointUnit);
-        b.apply(c.upper, at, e);
-        b.apply(c.lower, at, {-e[0], -e[1], -e[2]});
-        b.end_column(ForceKind::Support, ci);
-      }
-      // A joint that turns holds no moment about its axis (its friction is taken as none).
-      for (const Vec3& m : moment_axes(c)) {
-        const Vec3 e{m[0] * kJointUnit, m[1] * kJointUnit, m[2] * kJointUnit};
-        b.apply_moment(c.upper, e);
-        b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
-        b.end_column(ForceKind::Support, ci);
-      }
-      if (c.joint_kind == Contact::Kind::Turns && model.turning_joints_hold) {
-        const Vec3& m = c.joint_axis;
-        const Vec3 e{m[0] * kJointUnit, m[1] * kJointUnit, m[2] * kJointUnit};
-        b.apply_moment(c.upper, e);
-        b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
-        s.turning_columns.push_back(s.columns());
-        b.end_column(ForceKind::Support, ci);
-      }
-      continue;
-    }
-    const int axis = axis_of(c.direction), f = kInPlane[axis][0], sd = kInPlane[axis][1];
-    const Vec3 d = model_direction(c, unit(axis, sign_of(c.direction)));
-    auto point = [&](double pf, double ps) {
-      Vec3 p{0, 0, 0};
-      p[size_t(axis)] = c.plane;
-      p[size_t(f)] = pf;
-      p[size_t(sd)] = ps;
-      return point_of(c, p);
-    };
-    // Normal forces at the corners of the patch push the two parts apart (or, to be measured
-    // against that, at the knobs' contacts).
-    if (model.push_at_knobs && c.point_count > 0) {
-      for (uint32_t k = 0; k < c.point_count; ++k) {
-        const FrictionPoint& p = g.friction_points[c.first_point + k];
-        const Vec3 at = point_of(c, {p.x, p.y, p.z});
-        b.apply(c.upper, at, d);
-        b.apply(c.lower, at, {-d[0], -d[1], -d[2]});
-        b.end_column(ForceKind::Normal, ci);
-      }
-    } else {
-      for (int corner = 0; corner < 4; ++corner) {
-        const Vec3 p =
-            point(corner & 1 ? c.patch.u1 : c.patch.u0, corner & 2 ? c.patch.v1 : c.patch.v0);
-        b.apply(c.upper, p, d);
-        b.apply(c.lower, p, {-d[0], -d[1], -d[2]});
-        b.end_column(ForceKind::Normal, ci);
-      }
-    }
-    // The support force of the knobs in the plane, where there are knobs or a ground to lean on.
-    if (c.support) {
-      const Vec3 mid = point((c.patch.u0 + c.patch.u1) / 2, (c.patch.v0 + c.patch.v1) / 2);
-      for (int in_plane : {f, sd}) {
-        const Vec3 e = model_direction(c, unit(in_plane));
-        b.apply(c.upper, mid, e);
-        b.apply(c.lower, mid, {-e[0], -e[1], -e[2]});
-        b.end_column(ForceKind::Support, ci);
-      }
-      // Two knobs or more, pressing sideways in their receptacles, also hold a twist about the
-      // knobs' axis, as the support force holds the push across it (knobs do not break); one
-      // knob turns in its receptacle.
-      if (c.studs >= 2 && model.knobs_hold_twist) {
-        const Vec3 e = model_direction(c, unit(axis, kJointUnit));
-        b.apply_moment(c.upper, e);
-        b.apply_moment(c.lower, {-e[0], -e[1], -e[2]});
-        b.end_column(ForceKind::Support, ci);
-      }
-    }
-  }
+  add_push_and_support_columns(a, g, taken, model, s, b);
 
-  // b: gravity at each brick's centre and each carried part's, and external loads.
   s.rhs.assign(size_t(s.rows), 0.0);
-  for (int i = 0; i < n; ++i)
-    if (const int body = s.body_of[size_t(i)]; body >= 0)
-      b.load(body, brick_centre[size_t(i)], {0, -a.bricks[size_t(i)].mass_g() * kGravity, 0});
-  for (const CarriedGroup& group : g.carried_groups) {
-    if (group.bearer < 0) continue;
-    const int body = s.body_of[size_t(group.bearer)];
-    if (body >= 0) b.load(body, studs(group.centre), {0, -group.mass_g * kGravity, 0});
-  }
-  for (const ExternalLoad& load : a.loads) {
-    if (load.brick < 0 || load.brick >= n) continue;
-    const int body = s.body_of[size_t(load.brick)];
-    if (body < 0) continue;
-    const Vec3 f{load.force_n[0] * 1e3, load.force_n[1] * 1e3, load.force_n[2] * 1e3};  // N -> mN
-    std::vector<Vec3> points;
-    if (load.spread_over_top_knobs) {
-      const Brick& brick = a.bricks[size_t(load.brick)];
-      const WorldShape w = world_shape(brick);
-      for (const Connector& k : w.studs)
-        if (k.direction == kPlusY) points.push_back(studs(to_model(brick, k.at)));
-      if (points.empty()) {  // no knob on top: the middle of its top face
-        Box top = w.body.front();
-        for (const Box& bx : w.body)
-          if (bx.max[1] > top.max[1]) top = bx;
-        points.push_back(studs(to_model(brick, Vec3{(top.min[0] + top.max[0]) / 2, top.max[1],
-                                                    (top.min[2] + top.max[2]) / 2})));
-      }
-    } else {
-      points.push_back({load.point[0], load.point[1] * kStudsPerPlate, load.point[2]});
-    }
-    const double share = 1.0 / double(points.size());
-    for (const Vec3& p : points) b.load(body, p, {f[0] * share, f[1] * share, f[2] * share});
-  }
+  add_loads(a, g, s, brick_centre, b);
   b.drop_roundoff_loads();
   return s;
 }
