@@ -226,8 +226,45 @@ bool pass_on_least_friction(const EquilibriumSystem& s, const std::vector<int>& 
   return true;
 }
 
+// The check, from the system alone: A·x = b on every row, every force within its bounds. Found,
+// with C_M and the forces, or why not.
+void check_forces(const EquilibriumSystem& s, double scale, std::vector<double> x,
+                  Certificate& out) {
+  std::vector<double> residual = s.rhs;
+  for (int j = 0; j < s.columns(); ++j) subtract_column(s, j, x[size_t(j)], residual);
+  // Clp's small LPs balance each row to 1e-7 of its own forces; passed down many bodies, the
+  // rounding reaches 1e-6 of the largest force (3e-4 g·m/s² on a bunny of 3,000 bricks).
+  double worst = 0.0, largest_friction = 0.0, largest_force = scale;
+  for (double r : residual) worst = std::max(worst, std::abs(r));
+  for (double v : x) largest_force = std::max(largest_force, std::abs(v));
+  if (worst > 1e-6 * largest_force) {
+    out.why_not = fmt::format("the forces leave {:.3g} unbalanced", worst);
+    return;
+  }
+  for (int j = 0; j < s.columns(); ++j) {
+    const double v = x[size_t(j)];
+    if (s.kind[size_t(j)] == ForceKind::Support) continue;
+    if (v < -1e-9 * scale) {
+      out.why_not = fmt::format("a force pulls where it can only push ({:.3g})", v);
+      return;
+    }
+    if (s.kind[size_t(j)] == ForceKind::Friction) largest_friction = std::max(largest_friction, v);
+  }
+  if (largest_friction >= kMaxFrictionLoad) {
+    out.why_not = "a friction force reaches T";
+    return;
+  }
+  out.found = true;
+  out.cm = kMaxFrictionLoad - largest_friction;
+  out.forces = std::move(x);
+}
+
 }  // namespace
 
+// One function of ~150 lines, for a reason: the sweep, the shared LPs around a body that cannot
+// pass its load on alone, and the passes that hang a failed body from its neighbours all read
+// and change one order of the bodies, their ranks, the forces so far and what is left
+// unbalanced.
 Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
                     const std::vector<double>& start) {
   Certificate out;
@@ -382,34 +419,7 @@ Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
     sort_bodies();
   }
 
-  // The check, from the system alone: A·x = b on every row, every force within its bounds.
-  std::vector<double> residual = s.rhs;
-  for (int j = 0; j < s.columns(); ++j) subtract_column(s, j, x[size_t(j)], residual);
-  // Clp's small LPs balance each row to 1e-7 of its own forces; passed down many bodies, the
-  // rounding reaches 1e-6 of the largest force (3e-4 g·m/s² on a bunny of 3,000 bricks).
-  double worst = 0.0, largest_friction = 0.0, largest_force = scale;
-  for (double r : residual) worst = std::max(worst, std::abs(r));
-  for (double v : x) largest_force = std::max(largest_force, std::abs(v));
-  if (worst > 1e-6 * largest_force) {
-    out.why_not = fmt::format("the forces leave {:.3g} unbalanced", worst);
-    return out;
-  }
-  for (int j = 0; j < s.columns(); ++j) {
-    const double v = x[size_t(j)];
-    if (s.kind[size_t(j)] == ForceKind::Support) continue;
-    if (v < -1e-9 * scale) {
-      out.why_not = fmt::format("a force pulls where it can only push ({:.3g})", v);
-      return out;
-    }
-    if (s.kind[size_t(j)] == ForceKind::Friction) largest_friction = std::max(largest_friction, v);
-  }
-  if (largest_friction >= kMaxFrictionLoad) {
-    out.why_not = "a friction force reaches T";
-    return out;
-  }
-  out.found = true;
-  out.cm = kMaxFrictionLoad - largest_friction;
-  out.forces = std::move(x);
+  check_forces(s, scale, std::move(x), out);
   return out;
 }
 
