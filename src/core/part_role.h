@@ -33,10 +33,6 @@ enum class PartRole : uint8_t {
   Copy,
 };
 
-inline bool left_out(PartRole r) {
-  return r == PartRole::UnknownPart || r == PartRole::MissingSubmodel || r == PartRole::Copy;
-}
-
 // Why a carried part is carried, as the reports say it. Left-out parts' words name files
 // (parts::PartNote::reason).
 std::string_view carried_because(PartRole r);

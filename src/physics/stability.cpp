@@ -354,18 +354,18 @@ void combine_blocks(const EquilibriumSystem& sys, const std::vector<EquilibriumB
     r.row_duals[size_t(blocks[weakest].rows[i])] = duals[i];
 }
 
-// The scaled LP of a block that gathers `structures` structures. Where our method fails on it,
-// each structure is solved alone: they share no force, so their answers together are the block's,
+// The scaled LP of a block. Where our method fails on one that gathers several structures, each
+// structure is solved alone: they share no force, so their answers together are the block's,
 // and one structure's numerical trouble stays its own. Beside the airport lounge, the rocket
 // sculpture's row that repeats others to its drawing's precision went unseen among the pair's
 // rows: our method failed, and Clp's simplex found no equilibrium in the pair, while each alone
 // is solved (71.658 and 71.526 gf).
 void solve_scaled_gathered(const EquilibriumSystem& sys, const ContactGraph& graph,
-                           const StabilityOptions& o, int structures, StabilityResult& r) {
+                           const StabilityOptions& o, StabilityResult& r) {
   const auto start = std::chrono::steady_clock::now();
   solve_scaled(sys, graph, o, r);
-  if (structures < 2 || r.stats.solver != kClpAfterOurs) return;
-  const std::vector<EquilibriumBlock> apart = independent_blocks(sys, 1);
+  if (r.stats.solver != kClpAfterOurs) return;
+  const std::vector<EquilibriumBlock> apart = independent_blocks(sys, 1);  // none: one structure
   if (apart.size() < 2) return;
   std::vector<StabilityResult> parts(apart.size());
   for (size_t k = 0; k < apart.size(); ++k) {
@@ -402,7 +402,7 @@ constexpr int kBodiesOfALargeBlock = 500;
 void solve_scaled_by_blocks(const EquilibriumSystem& sys, const ContactGraph& graph,
                             const StabilityOptions& o, StabilityResult& r) {
   const std::vector<EquilibriumBlock> blocks = independent_blocks(sys, o.block_bodies);
-  if (blocks.empty()) return solve_scaled_gathered(sys, graph, o, 2, r);
+  if (blocks.empty()) return solve_scaled_gathered(sys, graph, o, r);
   const auto start = std::chrono::steady_clock::now();
   std::vector<StabilityResult> parts(blocks.size());
   // A structure placed several times (a town's copies of one house) is solved once: its copies'
@@ -439,8 +439,7 @@ void solve_scaled_by_blocks(const EquilibriumSystem& sys, const ContactGraph& gr
           if (undecided) return part;  // left Empty: reported after the undecided one before it
           StabilityOptions left = o;
           left.max_seconds = seconds_left(start, o.max_seconds);
-          solve_scaled_gathered(blocks[which[i]].system, graph, left, blocks[which[i]].structures,
-                                part);
+          solve_scaled_gathered(blocks[which[i]].system, graph, left, part);
           if (!decided(part.status) && part.status != StabilityStatus::NoEquilibrium)
             undecided = true;
           return part;
