@@ -46,6 +46,24 @@ Eigen::MatrixXd random_dense(int rows, int cols, unsigned seed) {
   return d;
 }
 
+// A model's equilibrium equations as a matrix, its rows in the system's order, and each row's
+// body.
+struct Equations {
+  SparseMatrix A;
+  std::vector<int> body;
+};
+Equations equations_of(const Assembly& model) {
+  const ContactGraph graph = ContactGraph::build(model, GroundMode::Baseplate);
+  const EquilibriumSystem sys =
+      build_equilibrium(model, graph, analyze_connectivity(int(model.bricks.size()), graph));
+  std::vector<int> all(size_t(sys.rows)), body(size_t(sys.rows));
+  std::iota(all.begin(), all.end(), 0);
+  for (int r = 0; r < sys.rows; ++r) body[size_t(r)] = EquilibriumSystem::body_of_row(r);
+  return {renumber_rows(sys.rows, sys.columns(), sys.column_start.data(), sys.row_index.data(),
+                        sys.value.data(), all),
+          std::move(body)};
+}
+
 TEST(NormalMatrix, FormsTheLowerTriangleOfAThetaAtInItsOrder) {
   const Problem p = random_problem(30, 90, 1);
   const std::vector<int> order = fill_reducing_order(p.A).rows;
@@ -87,15 +105,7 @@ TEST(NormalMatrix, FillReducingOrderOnBodiesIsAPermutationOfTheRows) {
 // three quarters of the flops of the best order on its rows (measured: 5.8e8 against 7.9e8, METIS
 // on the rows; a tower of 32 layers 0.88, one of 16 layers is no chain yet and keeps METIS's).
 TEST(NormalMatrix, ASolidTowerIsOrderedOnItsBricks) {
-  const Assembly tower = bench::hollow_box(16, 16, 63, 8);
-  const ContactGraph graph = ContactGraph::build(tower, GroundMode::Baseplate);
-  const EquilibriumSystem sys =
-      build_equilibrium(tower, graph, analyze_connectivity(int(tower.bricks.size()), graph));
-  std::vector<int> all(size_t(sys.rows)), body(size_t(sys.rows));
-  std::iota(all.begin(), all.end(), 0);
-  for (int r = 0; r < sys.rows; ++r) body[size_t(r)] = EquilibriumSystem::body_of_row(r);
-  const SparseMatrix A = renumber_rows(sys.rows, sys.columns(), sys.column_start.data(),
-                                       sys.row_index.data(), sys.value.data(), all);
+  const auto [A, body] = equations_of(bench::hollow_box(16, 16, 63, 8));
   const RowOrder on_rows = fill_reducing_order(A), on_bodies = fill_reducing_order(A, body);
   EXPECT_EQ(on_rows.method, "METIS on the rows");
   EXPECT_EQ(on_bodies.method, "AMD on the bodies");
@@ -107,15 +117,7 @@ TEST(NormalMatrix, ASolidTowerIsOrderedOnItsBricks) {
 // equilibrium in one run of ten for the corpus's rocket sculpture, whose dependent row went
 // unseen in another order). Every thread gets the order one thread alone gets.
 TEST(NormalMatrix, OrdersComputedAtOnceAreThoseOfOneThread) {
-  const Assembly box = bench::hollow_box_of(300);
-  const ContactGraph graph = ContactGraph::build(box, GroundMode::Baseplate);
-  const EquilibriumSystem sys =
-      build_equilibrium(box, graph, analyze_connectivity(int(box.bricks.size()), graph));
-  std::vector<int> all(size_t(sys.rows)), body(size_t(sys.rows));
-  std::iota(all.begin(), all.end(), 0);
-  for (int r = 0; r < sys.rows; ++r) body[size_t(r)] = EquilibriumSystem::body_of_row(r);
-  const SparseMatrix A = renumber_rows(sys.rows, sys.columns(), sys.column_start.data(),
-                                       sys.row_index.data(), sys.value.data(), all);
+  const auto [A, body] = equations_of(bench::hollow_box_of(300));
   const RowOrder alone = fill_reducing_order(A, body);
   const std::vector<char> dependent_alone = dependent_rows(A);
   std::atomic<int> differ = 0;
@@ -140,14 +142,7 @@ int threads_of_this_process() {
 // on two cores (normal_equations.cpp); the setting that keeps them on the calling thread is each
 // thread's own. A factorization on a second thread, after one on the first, opens no team.
 TEST(NormalMatrix, FactorizationsOnAnyThreadOpenNoOpenMpTeams) {
-  const Assembly box = bench::hollow_box_of(300);
-  const ContactGraph graph = ContactGraph::build(box, GroundMode::Baseplate);
-  const EquilibriumSystem sys =
-      build_equilibrium(box, graph, analyze_connectivity(int(box.bricks.size()), graph));
-  std::vector<int> all(size_t(sys.rows));
-  std::iota(all.begin(), all.end(), 0);
-  const SparseMatrix A = renumber_rows(sys.rows, sys.columns(), sys.column_start.data(),
-                                       sys.row_index.data(), sys.value.data(), all);
+  const SparseMatrix A = equations_of(bench::hollow_box_of(300)).A;
   dependent_rows(A);  // this thread first
   int before = 0, after = 0;
   std::thread other([&] {
