@@ -18,14 +18,6 @@ namespace {
 constexpr double kRotationTolerance = 1e-2;
 // A rotation this close to a quarter turn (about a degree) is taken as that quarter turn.
 constexpr double kQuarterTurnTolerance = 2e-2;
-// LDraw editors nudge parts by one LDU: an upright part that far above or below the plates the
-// rest of the model shares (and no farther) is taken as on them, with a diagnostic, as a matrix
-// written with two decimals is taken as the rotation it is nearest to. Across, a part one LDU
-// off can be a SNOT assembly that is offset as a whole (the town hall's 4070s with their plates
-// on their sides): it is left where it is.
-constexpr double kPlateSlip = 1.0 + 1e-6;
-constexpr double kOnLattice = 1e-3;
-
 double dot3(const double* a, const double* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
@@ -183,13 +175,6 @@ double plate_offset(const ldraw::Model& model,
   return double(best) / 100;
 }
 
-// The height (LDU) that brings an origin at height `y` onto the model's plates when it lies off
-// them by at most kPlateSlip, else zero.
-double plate_slip(double y, double offset) {
-  const double shift = onto_grid(y, offset, kLduPerPlate);
-  return std::abs(shift) > kOnLattice && std::abs(shift) <= kPlateSlip ? shift : 0;
-}
-
 // docs/what-it-analyses.md, turned lattices: a part turned by an angle that is not a multiple of
 // 90 degrees lies on a lattice of its own when a submodel placement turned it: the outermost
 // placement whose turn is not a quarter turn (`outer`, in the model's frame) is that lattice, and
@@ -311,20 +296,19 @@ class PartTurnLattices {
   std::vector<Pose> lattices_;
 };
 
-// Where a known part goes: a brick with its pose (on the model's lattice, on a lattice turned
-// with it, or slipped onto the plates), or carried, with the role that says why.
+// Where a known part goes: a brick with its pose (on the model's lattice or on a lattice turned
+// with it), or carried, with the role that says why.
 struct Placement {
   Pose pose;
   std::optional<FramedPart> framed;
   std::optional<PartRole> carried;
   bool approximate = false;  // its matrix a rotation only to kRotationTolerance
-  double slip = 0;           // LDU it was moved onto the plates the other parts stand on
 };
 
-// `placed`: the part's transform in the model's frame; `plates`: where the plates lie there.
+// `placed`: the part's transform in the model's frame.
 Placement place(const ldraw::Model& model, const ldraw::PlacedPart& p,
                 const ldraw::Transform& placed, const PartKnowledge& k,
-                const ldraw::Transform& model_turn, PartTurnLattices& part_turns, double plates) {
+                const ldraw::Transform& model_turn, PartTurnLattices& part_turns) {
   Placement out;
   out.carried = k.carried;
   std::array<double, 9> rotation = placed.rot;
@@ -346,15 +330,6 @@ Placement place(const ldraw::Model& model, const ldraw::PlacedPart& p,
   out.pose.rotation = turn ? *turn : rotation;
   out.pose.origin = placed.pos;
   if (out.framed) out.pose = out.framed->pose;
-  // The slip brings studs onto the plates: a part with none, held on lines by pins, bars or
-  // clips (an exhaust pipe in a headlight brick's hole), stays where it is drawn.
-  const PartShape& shape = k.type.shape;
-  const bool on_plates = !shape.studs.empty() || !shape.receptacles.empty();
-  if (!out.carried && !out.framed && on_plates &&
-      std::abs(std::abs(out.pose.rotation[4]) - 1) < 1e-9) {
-    out.slip = plate_slip(placed.pos[1], plates);
-    out.pose.origin[1] += out.slip;
-  }
   if (out.carried && !orthonormalized(placed.rot, kRotationTolerance))
     out.pose.rotation = placed.rot;
   return out;
@@ -381,7 +356,7 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
     const Pose back = Pose{transposed(*frame), {0, 0, 0}}.then(Pose{t.rot, t.pos});  // Fᵀ·t
     return ldraw::Transform{back.origin, back.rotation};
   };
-  const double plates = plate_offset(model, in_frame);
+  out.plates = plate_offset(model, in_frame);
   const ldraw::Transform model_turn = in_frame(ldraw::Transform{});  // Fᵀ: where lattices start
   PartTurnLattices part_turns;
   // The same part placed twice in one place (a common slip in LDraw editors, which draw one): the
@@ -417,18 +392,12 @@ AssemblyConversion to_assembly(const ldraw::Model& model, PartLibrary& library,
       continue;
     }
     const SourceRef source{p.file, p.line, p.step, p.built_in, p.apart_from};
-    const Placement at = place(model, p, placed, *k, model_turn, part_turns, plates);
+    const Placement at = place(model, p, placed, *k, model_turn, part_turns);
     if (at.carried) {
       out.assembly.carried.push_back(carried_part(k->type, *at.carried, p.color, source, at.pose));
       out.carried_part.push_back(i);
       continue;
     }
-    if (at.slip != 0)
-      out.diagnostics.push_back(
-          {ldraw::Severity::Warning, p.file, p.line,
-           fmt::format("placed {:g} LDU {} the plates the model's other parts stand on: taken as "
-                       "on them",
-                       std::abs(at.slip), at.slip > 0 ? "above" : "below")});
     if (at.approximate && !at.framed)  // said where the verdict relies on it
       out.diagnostics.push_back(
           {ldraw::Severity::Warning, p.file, p.line,

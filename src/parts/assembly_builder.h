@@ -26,6 +26,10 @@ struct AssemblyConversion {
   std::vector<size_t> carried_part;            // per carried part: its index into Model::parts
   std::vector<PartNote> skipped;               // left out: nothing is known of them
   std::vector<ldraw::Diagnostic> diagnostics;  // matrices made orthonormal, and the like
+  // Where the model's plates lie, in its frame: the height (LDU, in [0, 8)) modulo a plate that
+  // most upright parts' origins share. Parts are placed as drawn; report/drawn_by_eye.h takes
+  // those drawn a little off this onto it.
+  double plates = 0;
   // The kinds of part the bricks point into (PartLibrary keeps their knowledge).
   std::unique_ptr<BrickCatalog> types = std::make_unique<BrickCatalog>();
 };

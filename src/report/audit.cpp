@@ -24,6 +24,7 @@
 #include "physics/solved_blocks.h"
 #include "physics/step_stability.h"
 #include "physics/world_shape.h"
+#include "report/drawn_by_eye.h"
 
 namespace lego::report {
 namespace {
@@ -199,80 +200,6 @@ Floating floating_bricks(const Assembly& a, const physics::StabilityOptions& o) 
   return out;
 }
 
-// LDraw editors nudge parts by one LDU, and authors place parts by eye. The builder takes an
-// upright part one LDU above or below the model's plates as on them; across, a part beside the
-// lattice may be a SNOT assembly offset on purpose (the town hall's), which holds together as
-// drawn. So only parts whose studs and receptacles meet nothing that stands (`floating`) are
-// moved onto the lattice, and only those that then meet what stands stay moved, each with a
-// warning naming its line. Across, as far as a stud stays inside its receptacle's cell
-// (kStudInCellLdu); up and down, upright parts as far as half a stud's height: drawn 2 LDU
-// above its plates (the bait shop's roof) a part still sits on the studs' upper half, drawn below
-// it would cut into the part under it. Returns whether any did.
-bool nudge_onto_the_lattice(Audit& audit, const std::vector<char>& floating,
-                            const physics::StabilityOptions& o) {
-  Assembly& a = audit.conversion.assembly;
-  constexpr double kHalfStudHeight = 2.0;
-  // The lattice: the residue (hundredths of an LDU) most parts share, across modulo half a stud,
-  // up modulo a plate.
-  constexpr double kGrid = kLduPerStud / 2;
-  std::map<std::pair<long, long>, int> votes;
-  std::map<long, int> heights;
-  auto upright = [](const Brick& b) { return std::abs(std::abs(b.pose->rotation[4]) - 1) < 1e-9; };
-  for (const Brick& b : a.bricks)
-    if (b.pose && !b.frame) {
-      ++votes[{residue_hundredths(b.pose->origin[0], kGrid),
-               residue_hundredths(b.pose->origin[2], kGrid)}];
-      if (upright(b)) ++heights[residue_hundredths(b.pose->origin[1], kLduPerPlate)];
-    }
-  if (votes.empty()) return false;
-  auto most = [](const auto& x, const auto& y) { return x.second < y.second; };
-  const auto grid = std::max_element(votes.begin(), votes.end(), most)->first;
-  const long plates =
-      heights.empty() ? 0 : std::max_element(heights.begin(), heights.end(), most)->first;
-  auto slip = [&](double v, long at, double pitch, double reach) {
-    const double shift = onto_grid(v, double(at) / 100, pitch);
-    return std::abs(shift) <= reach + 1e-6 ? shift : 0.0;
-  };
-  std::vector<std::pair<int, Vec3>> moved;  // brick, its origin as drawn
-  for (size_t i = 0; i < a.bricks.size(); ++i) {
-    Brick& b = a.bricks[i];
-    if (!floating[i] || !b.pose || b.frame) continue;
-    const Vec3 shift{
-        slip(b.pose->origin[0], grid.first, kGrid, kStudInCellLdu),
-        upright(b) ? slip(b.pose->origin[1], plates, kLduPerPlate, kHalfStudHeight) : 0.0,
-        slip(b.pose->origin[2], grid.second, kGrid, kStudInCellLdu)};
-    if (std::max({std::abs(shift[0]), std::abs(shift[1]), std::abs(shift[2])}) < 1e-3) continue;
-    moved.emplace_back(int(i), b.pose->origin);
-    for (int k = 0; k < 3; ++k) b.pose->origin[size_t(k)] += shift[size_t(k)];
-  }
-  if (moved.empty()) return false;
-  const std::vector<char> still = floating_bricks(a, o).bricks;
-  bool any = false;
-  for (const auto& [i, drawn] : moved) {
-    Brick& b = a.bricks[size_t(i)];
-    if (still[size_t(i)]) {
-      b.pose->origin = drawn;
-      continue;
-    }
-    any = true;
-    const double across =
-        std::max(std::abs(b.pose->origin[0] - drawn[0]), std::abs(b.pose->origin[2] - drawn[2]));
-    const double below = drawn[1] - b.pose->origin[1];  // LDraw's y points down
-    const bool beside = across > 1e-3, off_plates = std::abs(below) > 1e-3;
-    std::string where;
-    if (beside) where = fmt::format("{:g} LDU beside the lattice", across);
-    if (off_plates)
-      where += fmt::format("{}{:g} LDU {} the plates", beside ? " and " : "", std::abs(below),
-                           below > 0 ? "below" : "above");
-    audit.conversion.diagnostics.push_back(
-        {ldraw::Severity::Warning, b.source.file, b.source.line,
-         fmt::format("placed {} the model's other parts {}, its studs meeting nothing: taken as "
-                     "on {}, where they meet what stands",
-                     where, beside ? "share" : "stand on", off_plates ? "them" : "it")});
-  }
-  return any;
-}
-
 // Parts that only a joint of another part can hold (a bar, a wheel): those of `kind` that no
 // shaft joint ties to a part of another kind, directly or through others of the kind (a tyre
 // through its wheel), are held by what the analysis does not model: carried, as `role`.
@@ -335,7 +262,9 @@ void carry_unconnected(Audit& audit, const physics::StabilityOptions& o) {
   if (carry_held_by_no_joint(audit, now.graph, wheel_or_tyre, PartRole::WheelOnNothing))
     now = floating_bricks(a, o);
   if (std::find(now.bricks.begin(), now.bricks.end(), 1) == now.bricks.end()) return;
-  if (nudge_onto_the_lattice(audit, now.bricks, o)) now = floating_bricks(a, o);
+  auto floating_now = [&](const Assembly& now) { return floating_bricks(now, o).bricks; };
+  if (nudge_onto_the_lattice(audit.conversion, now.bricks, floating_now))
+    now = floating_bricks(a, o);
   // Technic parts held by nothing but their pins, axles and holes, where those meet nothing that
   // stands, are carried first: carried, they still join what they touch, and what hangs on them
   // may stand through them (a mast of connectors and axles whose holes are not all found).
@@ -816,6 +745,7 @@ void audit_within(Audit& audit, const AuditOptions& options, parts::PartLibrary&
   audit.conversion = parts::to_assembly(audit.model, library,
                                         fixed_parts(audit.model, options.ground_parts, audit.file),
                                         options.stability.budget);
+  take_onto_the_plates(audit.conversion);
   lower_ground_under_unknown_parts(audit);
   carry_lone_turned(audit, options.stability);
   carry_unconnected(audit, options.stability);

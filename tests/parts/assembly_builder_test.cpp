@@ -149,33 +149,6 @@ TEST(ToAssembly, AModelTurnedAsAWholeIsAnalysedInItsFrame) {
   EXPECT_NE(conv.diagnostics[0].message.find("turned together by 1.0 degrees"), std::string::npos);
 }
 
-// An editor's one-LDU nudge: an upright part one LDU above or below the plates the rest of the
-// model stands on is taken as on them, with a warning naming its line. Two LDU is a placement of
-// its own, and so is one LDU on a part turned on its side (SNOT offsets are the builder's).
-TEST(ToAssembly, AnUprightPartOneLduOffThePlatesIsTakenAsOnThem) {
-  ldraw::Model m = read_text(
-      "0 t\n"
-      "1 4 0 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
-      "1 4 80 0 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
-      "1 4 0 -25 0 1 0 0 0 1 0 0 0 1 3001.dat\n"       // 1 LDU above: on the brick below
-      "1 4 80 -26 0 1 0 0 0 1 0 0 0 1 3001.dat\n"      // 2 LDU above: where it is
-      "1 4 0 -49 0 0 1 0 -1 0 0 0 0 1 3001.dat\n"      // on its side: where it is
-      "1 4 160 -23 0 1 0 0 0 -1 0 0 0 -1 3001.dat\n",  // upside down, 1 LDU below
-      "t.ldr");
-  PartLibrary library({}, BrickCatalog::standard());
-  auto conv = to_assembly(m, library);
-  ASSERT_EQ(conv.assembly.bricks.size(), 6u);
-  std::vector<double> heights;
-  for (const auto& b : conv.assembly.bricks) heights.push_back(b.pose->origin[1]);
-  EXPECT_EQ(heights, (std::vector<double>{0, 0, -24, -26, -49, -24}));
-  ASSERT_EQ(conv.diagnostics.size(), 2u);
-  EXPECT_EQ(conv.diagnostics[0].line, 4);
-  EXPECT_NE(conv.diagnostics[0].message.find("placed 1 LDU above the plates"), std::string::npos)
-      << conv.diagnostics[0].message;
-  EXPECT_EQ(conv.diagnostics[1].line, 7);
-  EXPECT_NE(conv.diagnostics[1].message.find("1 LDU below"), std::string::npos);
-}
-
 // A packed MPD's own part blocks belong to it: a library that read another model first, held in
 // the same variable (so at the same address), finds the blocks of the model it reads now.
 TEST(ToAssembly, EachModelFindsItsOwnEmbeddedParts) {
