@@ -119,6 +119,111 @@ std::optional<double> cylinder_turn(std::string_view b) {
   return std::min(1.0, double(part) / whole);
 }
 
+// Why `g` with `sub` added would pass kMaxFaces or kMaxStuds, or nullptr.
+const char* over_limits(const PartGeometry& g, const PartGeometry& sub) {
+  if (g.faces.size() + sub.faces.size() > kMaxFaces) return "it draws more than 2,000,000 faces";
+  if (g.studs.size() + size_t(g.angled_studs) + sub.studs.size() + size_t(sub.angled_studs) >
+      kMaxStuds)
+    return "it has more than 100,000 studs";
+  return nullptr;
+}
+
+// A stud primitive placed by `t`: a stud where its axis is one of the six directions.
+void add_stud(PartGeometry& g, const Transform& t) {
+  if (auto d = stud_direction(t)) {
+    // A stud engages by its top 4 LDU: some parts draw it longer, starting inside the body
+    // (the front studs of an inverted slope), so its base is taken 4 LDU below its tip.
+    Vec3 at = transformed(t, {0, -4, 0});
+    at[size_t(axis_of(*d))] -= 4 * sign_of(*d);
+    g.studs.push_back({at, *d});
+  } else {
+    ++g.angled_studs;
+  }
+}
+
+// A type 3 or 4 line of `corners` corners (`rest`: from its colour on) as one or two triangles.
+void add_face(PartGeometry& g, int corners, std::string_view rest) {
+  next_token(rest);  // colour
+  Vec3 p[4];
+  for (int v = 0; v < corners; ++v)
+    for (int a = 0; a < 3; ++a)
+      if (!number(next_token(rest), p[v][a])) return;  // a malformed face draws nothing
+  g.faces.push_back({{p[0], p[1], p[2]}});
+  if (corners == 4) g.faces.push_back({{p[0], p[2], p[3]}});
+}
+
+// What a subfile (`sub`, its file name `base`) placed by `t` adds to the geometry of the file
+// that places it: its faces, rounds, shafts and studs moved by `t`, and the files it misses.
+void add_subfile(PartGeometry& g, const Transform& t, std::string_view base,
+                 const PartGeometry& sub) {
+  for (const Triangle& tri : sub.faces)
+    g.faces.push_back(
+        {{transformed(t, tri.p[0]), transformed(t, tri.p[1]), transformed(t, tri.p[2])}});
+  // A Technic primitive is one shaft along its y axis, as long as it draws; what it is drawn
+  // with is not another. A cylinder primitive's axis is its y from 0 to 1, its radius its x.
+  // Shafts and rounds turned off the part's axes are left out.
+  auto along_one_axis = [](const Vec3& a, const Vec3& b) {
+    int axes = 0;
+    for (int k = 0; k < 3; ++k) axes += std::abs(a[size_t(k)] - b[size_t(k)]) > 1e-3;
+    return axes == 1;
+  };
+  auto take = [&](std::vector<Shaft>& into, const Shaft& s) {
+    const Vec3 a = transformed(t, s.a), b = transformed(t, s.b);
+    if (along_one_axis(a, b)) into.push_back({s.kind, a, b});
+  };
+  // A round's radius grows with what t does across its axis.
+  auto take_round = [&](Round r, bool clip) {
+    const int axis = Shaft{Shaft::Kind::Knuckle, r.a, r.b}.axis();
+    const Vec3 a = transformed(t, r.a), b = transformed(t, r.b);
+    if (!along_one_axis(a, b)) return;
+    auto column = [&](int k) {
+      return std::hypot(t.rot[size_t(k)], t.rot[3 + size_t(k)], t.rot[6 + size_t(k)]);
+    };
+    r.radius *= (column((axis + 1) % 3) + column((axis + 2) % 3)) / 2;
+    if (r.radius < 2) return;
+    r.a = a, r.b = b, r.clip = r.clip || clip;
+    g.rounds.push_back(r);
+  };
+  const auto kind = shaft_primitive(base);
+  if (const auto turn = cylinder_turn(base)) {
+    take_round({{0, 0, 0}, {0, 1, 0}, 1, *turn, false}, false);
+  } else if (!base.starts_with("stud") && !kind) {
+    const bool clip = base.starts_with("clip");
+    for (const Round& r : sub.rounds) take_round(r, clip);
+  }
+  if (kind) {
+    double lo = 1e300, hi = -1e300;
+    for (const Triangle& tri : sub.faces)
+      for (const Vec3& p : tri.p) lo = std::min(lo, p[1]), hi = std::max(hi, p[1]);
+    if (hi - lo < 1e-3) lo = 0, hi = 1;  // drawn flat: a unit length, as its scale gives
+    take(g.shafts, {*kind, {0, lo, 0}, {0, hi, 0}});
+  } else {
+    for (const Shaft& s : sub.shafts) take(g.shafts, s);
+  }
+  for (const Connector& s : sub.studs) {
+    // The stud's axis turned by t: its direction as a unit vector through the rotation.
+    Vec3 axis{0, 0, 0};
+    axis[size_t(axis_of(s.direction))] = sign_of(s.direction);
+    Transform turn = t;
+    turn.pos = {0, 0, 0};
+    const Vec3 d = transformed(turn, axis);
+    const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    int direction = -1;
+    for (int a = 0; a < 3 && length > 0; ++a)
+      if (std::abs(std::abs(d[a]) - length) < 1e-3 * length) direction = direction_of(a, d[a] < 0);
+    if (direction < 0) {
+      ++g.angled_studs;
+      continue;
+    }
+    g.studs.push_back({transformed(t, s.at), direction});
+  }
+  g.angled_studs += sub.angled_studs;
+  // Names, not occurrences: a missing file placed 20 times over 7 levels is one name.
+  for (const auto& m : sub.missing) g.missing.push_back(m);
+  std::sort(g.missing.begin(), g.missing.end());
+  g.missing.erase(std::unique(g.missing.begin(), g.missing.end()), g.missing.end());
+}
+
 }  // namespace
 
 std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
@@ -163,14 +268,7 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
     }
     first_line = false;
     if (type == "3" || type == "4") {
-      next_token(rest);  // colour
-      const int corners = type == "3" ? 3 : 4;
-      Vec3 p[4];
-      for (int v = 0; v < corners; ++v)
-        for (int a = 0; a < 3; ++a)
-          if (!number(next_token(rest), p[v][a])) return;  // a malformed face draws nothing
-      g->faces.push_back({{p[0], p[1], p[2]}});
-      if (corners == 4) g->faces.push_back({{p[0], p[2], p[3]}});
+      add_face(*g, type == "3" ? 3 : 4, rest);
       return;
     }
     if (type != "1") return;
@@ -186,15 +284,7 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
     ++references;
     const std::string base = base_name(name);
     if (is_stud_primitive(base)) {
-      if (auto d = stud_direction(t)) {
-        // A stud engages by its top 4 LDU: some parts draw it longer, starting inside the body
-        // (the front studs of an inverted slope), so its base is taken 4 LDU below its tip.
-        Vec3 at = transformed(t, {0, -4, 0});
-        at[size_t(axis_of(*d))] -= 4 * sign_of(*d);
-        g->studs.push_back({at, *d});
-      } else {
-        ++g->angled_studs;
-      }
+      add_stud(*g, t);
       return;
     }
     std::string sub_why;
@@ -209,84 +299,12 @@ std::shared_ptr<const PartGeometry> GeometryCache::flatten(const PartFile& file,
       failed = true;
       return;
     }
-    if (g->faces.size() + sub->faces.size() > kMaxFaces) {
-      why = "it draws more than 2,000,000 faces";
+    if (const char* over = over_limits(*g, *sub)) {
+      why = over;
       failed = true;
       return;
     }
-    if (g->studs.size() + size_t(g->angled_studs) + sub->studs.size() + size_t(sub->angled_studs) >
-        kMaxStuds) {
-      why = "it has more than 100,000 studs";
-      failed = true;
-      return;
-    }
-    for (const Triangle& tri : sub->faces)
-      g->faces.push_back(
-          {{transformed(t, tri.p[0]), transformed(t, tri.p[1]), transformed(t, tri.p[2])}});
-    // A Technic primitive is one shaft along its y axis, as long as it draws; what it is drawn
-    // with is not another. A cylinder primitive's axis is its y from 0 to 1, its radius its x.
-    // Shafts and rounds turned off the part's axes are left out.
-    auto along_one_axis = [](const Vec3& a, const Vec3& b) {
-      int axes = 0;
-      for (int k = 0; k < 3; ++k) axes += std::abs(a[size_t(k)] - b[size_t(k)]) > 1e-3;
-      return axes == 1;
-    };
-    auto take = [&](std::vector<Shaft>& into, const Shaft& s) {
-      const Vec3 a = transformed(t, s.a), b = transformed(t, s.b);
-      if (along_one_axis(a, b)) into.push_back({s.kind, a, b});
-    };
-    // A round's radius grows with what t does across its axis.
-    auto take_round = [&](Round r, bool clip) {
-      const int axis = Shaft{Shaft::Kind::Knuckle, r.a, r.b}.axis();
-      const Vec3 a = transformed(t, r.a), b = transformed(t, r.b);
-      if (!along_one_axis(a, b)) return;
-      auto column = [&](int k) {
-        return std::hypot(t.rot[size_t(k)], t.rot[3 + size_t(k)], t.rot[6 + size_t(k)]);
-      };
-      r.radius *= (column((axis + 1) % 3) + column((axis + 2) % 3)) / 2;
-      if (r.radius < 2) return;
-      r.a = a, r.b = b, r.clip = r.clip || clip;
-      g->rounds.push_back(r);
-    };
-    const auto kind = shaft_primitive(base);
-    if (const auto turn = cylinder_turn(base)) {
-      take_round({{0, 0, 0}, {0, 1, 0}, 1, *turn, false}, false);
-    } else if (!base.starts_with("stud") && !kind) {
-      const bool clip = base.starts_with("clip");
-      for (const Round& r : sub->rounds) take_round(r, clip);
-    }
-    if (kind) {
-      double lo = 1e300, hi = -1e300;
-      for (const Triangle& tri : sub->faces)
-        for (const Vec3& p : tri.p) lo = std::min(lo, p[1]), hi = std::max(hi, p[1]);
-      if (hi - lo < 1e-3) lo = 0, hi = 1;  // drawn flat: a unit length, as its scale gives
-      take(g->shafts, {*kind, {0, lo, 0}, {0, hi, 0}});
-    } else {
-      for (const Shaft& s : sub->shafts) take(g->shafts, s);
-    }
-    for (const Connector& s : sub->studs) {
-      // The stud's axis turned by t: its direction as a unit vector through the rotation.
-      Vec3 axis{0, 0, 0};
-      axis[size_t(axis_of(s.direction))] = sign_of(s.direction);
-      Transform turn = t;
-      turn.pos = {0, 0, 0};
-      const Vec3 d = transformed(turn, axis);
-      const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      int direction = -1;
-      for (int a = 0; a < 3 && length > 0; ++a)
-        if (std::abs(std::abs(d[a]) - length) < 1e-3 * length)
-          direction = direction_of(a, d[a] < 0);
-      if (direction < 0) {
-        ++g->angled_studs;
-        continue;
-      }
-      g->studs.push_back({transformed(t, s.at), direction});
-    }
-    g->angled_studs += sub->angled_studs;
-    // Names, not occurrences: a missing file placed 20 times over 7 levels is one name.
-    for (const auto& m : sub->missing) g->missing.push_back(m);
-    std::sort(g->missing.begin(), g->missing.end());
-    g->missing.erase(std::unique(g->missing.begin(), g->missing.end()), g->missing.end());
+    add_subfile(*g, t, base, *sub);
     if (!moved_to.empty() && references == 1) {  // a moved part is its target
       g->title = sub->title;
       g->category = sub->category;
