@@ -93,8 +93,10 @@ void write_instructions(const report::Audit& audit, const fs::path& dir,
         if (s.status == physics::StabilityStatus::Solved) bs.cm_gf = s.cm_gf;
         bs.stands = s.stable;
         bs.certified = s.certified;
-        bs.sub_assembly_judged = s.apart;
+        bs.sub_assembly_judged = s.apart || s.built_aside;
         bs.why = s.why;
+        if (s.built_aside)
+          continue;  // its culprits are parts built aside, drawn in no falls picture
         for (int b : s.culprits)
           if (size_t(b) < audit.conversion.brick_part.size())
             bs.falling.push_back(audit.conversion.brick_part[size_t(b)]);

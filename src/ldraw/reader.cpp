@@ -437,6 +437,18 @@ class Flattener {
   bool buffered_ = false;
   std::vector<char> shown_;
   std::map<char, std::vector<char>> buffers_;
+  // What each view (begun by an exchange) shows of the parts placed before it, and per step
+  // ended: its number, its view (-1: before any exchange) and the parts placed by its end. The
+  // views are kept up to kViewBytes; past that, sub-assemblies built aside are not followed.
+  static constexpr size_t kViewBytes = size_t(64) << 20;
+  std::vector<std::vector<char>> views_;
+  size_t view_bytes_ = 0;
+  bool views_lost_ = false;
+  struct StepEnd {
+    int step = 0, view = -1;
+    size_t parts = 0;
+  };
+  std::vector<StepEnd> step_ends_;
 
   void exchange(const BufferMark& mark) {
     buffered_ = true;
@@ -449,6 +461,17 @@ class Flattener {
       shown_ = it == buffers_.end() ? std::vector<char>() : it->second;
       shown_.resize(model_.parts.size(), 0);
     }
+    view_bytes_ += shown_.size();
+    views_lost_ = views_lost_ || view_bytes_ > kViewBytes;
+    if (!views_lost_) views_.push_back(shown_);
+  }
+
+  // Whether part `i` (placed by `end.parts`) is shown at the end of that step.
+  bool shown_at(const StepEnd& end, size_t i) const {
+    if (i >= end.parts) return false;
+    if (end.view < 0) return true;
+    const std::vector<char>& view = views_[size_t(end.view)];
+    return i >= view.size() || view[i];  // placed in the view: shown
   }
 
   // The finished model is what is shown at its end: parts placed while a buffer showed something
@@ -458,6 +481,7 @@ class Flattener {
     if (!buffered_) return;
     shown_.resize(model_.parts.size(), 1);
     std::vector<PlacedPart> kept;
+    std::vector<size_t> aside_part;  // per part set aside: its index while reading
     for (size_t i = 0; i < model_.parts.size(); ++i) {
       PlacedPart& p = model_.parts[i];
       if (shown_[i]) {
@@ -466,10 +490,21 @@ class Flattener {
         if (p.built_in > 0) p.step = p.built_in;  // built, and never shown in place
         p.built_in = p.apart_from = 0;
         model_.aside.push_back(std::move(p));
+        aside_part.push_back(i);
       }
     }
     model_.parts = std::move(kept);
+    if (views_lost_) return;
+    std::set<int> building;  // the steps that build aside
+    for (const PlacedPart& p : model_.aside) building.insert(p.step);
+    for (const StepEnd& end : step_ends_) {
+      if (!building.count(end.step)) continue;
+      std::vector<int>& shown = aside_shown_[end.step];
+      for (size_t k = 0; k < aside_part.size(); ++k)
+        if (shown_at(end, aside_part[k])) shown.push_back(int(k));
+    }
   }
+  std::map<int, std::vector<int>> aside_shown_;  // by step number as read
 
   // A submodel with steps of its own is a sub-assembly built apart the first time it is placed,
   // as LPub3D's instructions build it: its steps come before the step that places it, which has
@@ -499,7 +534,7 @@ class Flattener {
     std::vector<Step> steps;
     for (auto& [old, now] : number) {
       now = int(steps.size()) + 1;
-      steps.push_back({now, 0, rotstep[old], 0});
+      steps.push_back({now, 0, rotstep[old], 0, aside_shown_[old]});
     }
     for (PlacedPart& p : model_.parts) {
       ++steps[size_t((p.step = number[p.step]) - 1)].parts;
@@ -516,6 +551,7 @@ class Flattener {
   int parts_in_step() const { return int(model_.parts.size() - step_start_); }
   void end_step(const std::string& rotstep) {
     model_.steps.push_back(Step{step_, parts_in_step(), rotstep});
+    step_ends_.push_back({step_, int(views_.size()) - 1, model_.parts.size()});
     ++step_;
     step_start_ = model_.parts.size();
   }

@@ -66,6 +66,9 @@ struct Step {
   int parts = 0;        // placed parts added in this step (after flattening)
   std::string rotstep;  // the ROTSTEP that ended it, if any ("0 0 180 REL", "END")
   int aside = 0;        // parts built apart in it (PlacedPart::built_in, Model::aside)
+  // Where it builds a sub-assembly aside in MLCad's buffers: the parts built aside that its view
+  // shows at its end (indices into Model::aside, ascending), the sub-assembly as built so far.
+  std::vector<int> aside_shown;
 };
 
 struct Model {

@@ -463,8 +463,56 @@ void explain_falling_step(const Audit& audit, const physics::StabilityResult& r,
 // The model after `step`: its bricks and carried parts up to then, on the finished model's ground.
 // With `start`, a certificate begun from those forces decides it when it shows the step standing
 // (physics/step_stability.h); `forces` then receives the certificate's.
+// A step that builds a sub-assembly aside in MLCad's buffers: what its view shows of it, judged
+// alone on the table as audit_step judges a submodel built apart; nullopt for any other step.
+std::optional<StepAudit> audit_built_aside(const Audit& audit, int step,
+                                           const AuditOptions& options) {
+  if (!audit.aside) return std::nullopt;
+  const ldraw::Step* read = nullptr;
+  for (const ldraw::Step& st : audit.model.steps)
+    if (st.number == step) read = &st;
+  if (!read || read->aside_shown.empty()) return std::nullopt;
+  const Audit& aside = *audit.aside;
+  const Assembly& all = aside.conversion.assembly;
+  auto shown = [&](size_t part) {
+    return std::binary_search(read->aside_shown.begin(), read->aside_shown.end(), int(part));
+  };
+  Assembly partial;
+  partial.origin_ldu = all.origin_ldu;
+  std::vector<int> index, carried_index;
+  for (int i = 0; i < int(all.bricks.size()); ++i)
+    if (shown(aside.conversion.brick_part[size_t(i)])) {
+      index.push_back(i);
+      partial.bricks.push_back(all.bricks[size_t(i)]);
+    }
+  for (int i = 0; i < int(all.carried.size()); ++i)
+    if (shown(aside.conversion.carried_part[size_t(i)])) {
+      carried_index.push_back(i);
+      partial.carried.push_back(all.carried[size_t(i)]);
+    }
+  StepAudit s;
+  s.step = step;
+  s.built_aside = true;
+  s.bricks = int(partial.bricks.size());
+  if (partial.bricks.empty()) {  // parts carried alone, or left out: nothing to stand or fall
+    s.stable = true;
+    return s;
+  }
+  physics::StabilityOptions stability = options.stability;
+  stability.ground = physics::GroundMode::Table;
+  const physics::StabilityResult r = physics::analyze_stability(partial, stability);
+  s.status = r.status;
+  s.cm_gf = r.cm_gf();
+  s.floating = int(r.connectivity.floating.size() + r.connectivity.floating_carried.size());
+  const Verdict v = verdict_of(r, options.min_cm_gf);
+  s.stable = v == Verdict::Stable || v == Verdict::NothingToAnalyse;
+  if (!s.stable) explain_falling_step(aside, r, index, carried_index, options.min_cm_gf, s);
+  return s;
+}
+
 StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options,
                      const physics::StepForces* start, physics::StepForces* forces) {
+  if (auto built_aside = audit_built_aside(audit, step, options)) return *built_aside;
   const Assembly& whole = audit.conversion.assembly;
   // A step that builds a sub-assembly apart (a submodel with steps of its own) judges it alone,
   // as built so far, on the table it is built on: resting at its lowest point, nothing holding
@@ -539,6 +587,8 @@ void audit_steps(Audit& audit, const AuditOptions& given) {
   for (const Brick& b : audit.conversion.assembly.bricks) last = std::max(last, b.source.step);
   for (const CarriedPart& c : audit.conversion.assembly.carried)
     last = std::max(last, c.source.step);
+  for (const ldraw::Step& st : audit.model.steps)
+    if (!st.aside_shown.empty()) last = std::max(last, st.number);
   std::vector<StepAudit> analysed(static_cast<size_t>(std::max(last, 0)));
   std::vector<char> done(analysed.size(), 0);
   std::vector<std::shared_ptr<const physics::StepForces>> forces_of(analysed.size());
@@ -723,6 +773,17 @@ namespace {
 // docs/performance.md), rounded up.
 constexpr double kBytesPerPart = 16 << 10;
 
+// The model's parts as the analysis takes them: bricks where they snap, carried, or left out.
+void convert_parts(Audit& audit, const AuditOptions& options, parts::PartLibrary& library) {
+  audit.conversion = parts::to_assembly(audit.model, library,
+                                        fixed_parts(audit.model, options.ground_parts, audit.file),
+                                        options.stability.budget);
+  take_onto_the_plates(audit.conversion);
+  lower_ground_under_unknown_parts(audit);
+  carry_lone_turned(audit, options.stability);
+  carry_unconnected(audit, options.stability);
+}
+
 void audit_within(Audit& audit, const AuditOptions& options, parts::PartLibrary& library) {
   auto start = std::chrono::steady_clock::now();
   audit.model = ldraw::read_file(audit.file, options.read);
@@ -742,13 +803,19 @@ void audit_within(Audit& audit, const AuditOptions& options, parts::PartLibrary&
       !why.empty())
     throw OutOfMemory("out of memory: " + why);
   start = std::chrono::steady_clock::now();
-  audit.conversion = parts::to_assembly(audit.model, library,
-                                        fixed_parts(audit.model, options.ground_parts, audit.file),
-                                        options.stability.budget);
-  take_onto_the_plates(audit.conversion);
-  lower_ground_under_unknown_parts(audit);
-  carry_lone_turned(audit, options.stability);
-  carry_unconnected(audit, options.stability);
+  convert_parts(audit, options, library);
+  if (options.steps && !audit.model.aside.empty()) {
+    audit.aside = std::make_unique<Audit>();
+    Audit& aside = *audit.aside;
+    aside.file = audit.file;
+    aside.model = audit.model;
+    aside.model.parts = std::move(aside.model.aside);
+    aside.model.aside.clear();
+    AuditOptions on_the_table = options;
+    on_the_table.ground_parts.clear();
+    on_the_table.stability.ground = physics::GroundMode::Table;
+    convert_parts(aside, on_the_table, library);
+  }
   audit.parts_seconds = seconds_since(start);
   if (audit.conversion.assembly.bricks.empty()) {
     audit.verdict = Verdict::NothingToAnalyse;

@@ -3,6 +3,7 @@
 // connectivity, stability and, on request, every build step. brickcheck prints it; legolize
 // checks its own output with it.
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -65,6 +66,9 @@ struct StepAudit {
   // It builds a sub-assembly (a submodel with steps of its own), judged alone on the table: what
   // `bricks` and the C_M are of.
   bool apart = false;
+  // It builds a sub-assembly aside in MLCad's buffers (ldraw::Step::aside_shown), judged alone on
+  // the table as its view shows it: `bricks`, the C_M and the culprits are Audit::aside's.
+  bool built_aside = false;
   bool stable = false;
   // cm_gf is a certified lower bound (physics/step_stability.h), not the exact C_M: the exact
   // one is asked of the weakest step alone.
@@ -110,6 +114,10 @@ struct Audit {
   // 2 when a first analysis named parts resting where they cannot stay and they were carried:
   // the stats' times are then those of both.
   int analyses = 0;
+
+  // With steps: the parts built aside in MLCad's buffers (ldraw::Model::aside), converted as a
+  // model of their own on the table, for the steps that build them.
+  std::unique_ptr<Audit> aside;
 
   bool stable() const { return verdict == Verdict::Stable; }
 };

@@ -200,8 +200,9 @@ void steps_json(const Audit& a, json& j) {
   j["steps"] = json::array();
   for (const auto& s : a.steps) {
     json culprits = json::array();
-    for (int b : s.culprits) culprits.push_back(brick_json(a, b));
-    for (int c : s.carried_culprits) culprits.push_back(carried_json(a, c));
+    const Audit& of = s.built_aside && a.aside ? *a.aside : a;  // whose parts the culprits are
+    for (int b : s.culprits) culprits.push_back(brick_json(of, b));
+    for (int c : s.carried_culprits) culprits.push_back(carried_json(of, c));
     j["steps"].push_back(
         {{"step", s.step},
          {"bricks", s.bricks},
@@ -212,6 +213,7 @@ void steps_json(const Audit& a, json& j) {
          {"certified", s.certified},
          {"aside_parts", s.aside},
          {"apart", s.apart},
+         {"built_aside", s.built_aside},
          {"why", s.stable ? json(nullptr) : json(s.why)},
          {"parts", culprits}});
   }

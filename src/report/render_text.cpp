@@ -276,6 +276,10 @@ void steps_section(const Audit& a, Lines& line) {
     if (s.apart)
       state += fmt::format(", {} of a sub-assembly built apart (judged alone on the table)",
                            plural(size_t(s.aside), "part"));
+    else if (s.built_aside)
+      state += fmt::format(
+          ", {} built aside (a sub-assembly, set in place later; judged alone on the table)",
+          plural(size_t(s.aside), "part"));
     else if (s.aside)
       state += fmt::format(", {} built aside (a sub-assembly, set in place later)",
                            plural(size_t(s.aside), "part"));

@@ -172,7 +172,8 @@ TEST(Brickcheck, AFloatingStepNamesItsPart) {
 
 // A sub-assembly built aside in MLCad's buffers and set in place by GHOST lines: a blue brick on
 // the red base, a yellow one on it, built from the top down. Its steps build it apart, so none of
-// them has the yellow brick floating where it will be; the finished model is the ghosts in place.
+// them has the yellow brick floating where it will be: they judge the sub-assembly as their view
+// shows it, alone on the table; the finished model is the ghosts in place.
 TEST(Brickcheck, ASubAssemblyBuiltAsideIsNotJudgedInPlaceUntilItIsSet) {
   auto path = scratch("bufexchg.ldr");
   const std::string base =
@@ -189,14 +190,17 @@ TEST(Brickcheck, ASubAssemblyBuiltAsideIsNotJudgedInPlaceUntilItIsSet) {
   json j = check_json({"--steps", path.string()}, 0);
   EXPECT_EQ(j["parts"], 4);
   ASSERT_EQ(j["steps"].size(), 4u);
-  const std::vector<int> aside{0, 1, 1, 0}, bricks{2, 2, 2, 4};
+  const std::vector<int> aside{0, 1, 1, 0}, bricks{2, 1, 2, 4};
   for (size_t k = 0; k < 4; ++k) {
     EXPECT_EQ(j["steps"][k]["aside_parts"], aside[k]) << k;
+    EXPECT_EQ(j["steps"][k]["built_aside"].get<bool>(), aside[k] > 0) << k;
     EXPECT_EQ(j["steps"][k]["bricks"], bricks[k]) << k;
     EXPECT_TRUE(j["steps"][k]["stable"].get<bool>()) << k;
   }
   const std::string text = run_tool("brickcheck", {"--steps", path.string()}).out;
-  EXPECT_NE(text.find("1 part built aside (a sub-assembly, set in place later)"), std::string::npos)
+  EXPECT_NE(text.find("1 part built aside (a sub-assembly, set in place later; judged alone on "
+                      "the table)"),
+            std::string::npos)
       << text;
   // Built in place in the same order, the yellow brick floats in step 2.
   std::ofstream(path) << base
@@ -204,6 +208,38 @@ TEST(Brickcheck, ASubAssemblyBuiltAsideIsNotJudgedInPlaceUntilItIsSet) {
                          "1 1 40 -72 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n";
   j = check_json({"--steps", path.string()}, 1);
   EXPECT_EQ(j["first_failing_step"], 2);
+}
+
+// A sub-assembly built aside that does not hold together while it is built: its second brick,
+// beside the first and touching nothing, floats over the table the sub-assembly stands on. The
+// step says so with the brick's line, though the finished model (the ghosts, each on the base)
+// stands.
+TEST(Brickcheck, AStepBuildingASubAssemblyAsideThatFallsApartNamesItsPart) {
+  auto path = scratch("bufexchg-falls.ldr");
+  std::ofstream(path) << "0 a sub-assembly that does not hold while it is built aside\n"
+                         "1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                         "1 4 80 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                         "0 BUFEXCHG A STORE\n0 BUFEXCHG B RETRIEVE\n"
+                         "1 1 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                         "1 14 80 -72 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+                         "0 BUFEXCHG A RETRIEVE\n"
+                         "0 GHOST 1 1 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+                         "0 GHOST 1 14 80 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n";
+  const json plain = check_json({path.string()}, 0);
+  EXPECT_TRUE(plain["stable"].get<bool>());
+  const json j = check_json({"--steps", path.string()}, 1);
+  EXPECT_EQ(j["first_failing_step"], 3);
+  ASSERT_EQ(j["steps"].size(), 4u);
+  const json& s = j["steps"][2];
+  EXPECT_TRUE(s["built_aside"].get<bool>());
+  EXPECT_FALSE(s["stable"].get<bool>());
+  EXPECT_EQ(s["floating"], 1);
+  ASSERT_EQ(s["parts"].size(), 1u);
+  EXPECT_EQ(s["parts"][0]["line"], 9);
+  EXPECT_EQ(s["parts"][0]["color"], 14);
+  EXPECT_TRUE(j["steps"][3]["stable"].get<bool>()) << "set in place, each brick on the base";
+  const std::string text = run_tool("brickcheck", {"--steps", path.string()}).out;
+  EXPECT_NE(text.find("does not stand: bufexchg-falls.ldr:9 3001"), std::string::npos) << text;
 }
 
 // A submodel with steps of its own is built apart, as LPub3D's instructions build it: its steps

@@ -172,6 +172,31 @@ TEST(Reader, ASubAssemblyBuiltAsideInABufferIsSetInPlaceByItsGhosts) {
   EXPECT_TRUE(plain.aside.empty());
 }
 
+// Each step that builds aside knows what its view shows of what is built aside: the sub-assembly
+// so far. Two sub-assemblies in two buffers, the first taken up again after the second: each
+// step's view shows its own, never the other's.
+TEST(Reader, AStepBuildingAsideKnowsTheSubAssemblyItsViewShows) {
+  const Model m = read_text(
+      "0 m\n1 4 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"
+      "0 BUFEXCHG A STORE\n0 BUFEXCHG B RETRIEVE\n"
+      "1 1 0 -24 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"  // aside 0, step 2
+      "0 BUFEXCHG B STORE\n0 BUFEXCHG C RETRIEVE\n"
+      "1 2 0 -24 0 1 0 0 0 1 0 0 0 1 3003.dat\n0 STEP\n"  // aside 1, step 3
+      "0 BUFEXCHG B RETRIEVE\n"
+      "1 1 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n"  // aside 2, step 4
+      "0 BUFEXCHG A RETRIEVE\n"
+      "0 GHOST 1 1 0 -48 0 1 0 0 0 1 0 0 0 1 3001.dat\n"
+      "0 GHOST 1 1 0 -72 0 1 0 0 0 1 0 0 0 1 3001.dat\n0 STEP\n",
+      "two.ldr");
+  ASSERT_EQ(m.aside.size(), 3u);
+  ASSERT_EQ(m.steps.size(), 5u);
+  EXPECT_TRUE(m.steps[0].aside_shown.empty());
+  EXPECT_EQ(m.steps[1].aside_shown, (std::vector<int>{0}));
+  EXPECT_EQ(m.steps[2].aside_shown, (std::vector<int>{1}));
+  EXPECT_EQ(m.steps[3].aside_shown, (std::vector<int>{0, 2}));
+  EXPECT_TRUE(m.steps[4].aside_shown.empty());
+}
+
 // A submodel with steps of its own is a sub-assembly built apart where it is first placed, as
 // LPub3D's instructions build it: its steps, then the step that places it whole with the rest of
 // that step's parts; its parts are in place from there. Placed again, it comes whole.
