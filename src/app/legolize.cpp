@@ -375,8 +375,8 @@ std::string describe_brick(const PieceResult& p, int brick) {
   if (brick == physics::kGround) return "the ground";
   const Brick& b = p.la.assembly.bricks[size_t(brick)];
   const layout::LayoutBrick& lb = p.lay->brick(p.la.layout_id[size_t(brick)]);
-  return fmt::format("{} {} at voxel {},{},{}", b.type->part, b.type->name, lb.x, lb.y + p.lift,
-                     lb.z);
+  return fmt::format("{} {} at voxel {},{},{}", b.type->part, readable_part_name(b.type->name),
+                     lb.x, lb.y + p.lift, lb.z);
 }
 
 // A run of legolize: its options, its clock and progress lines, and the report it fills.

@@ -7,6 +7,7 @@
 #include "core/csv.h"
 #include "core/error.h"
 #include "core/lattice.h"
+#include "core/text.h"
 #include "ldraw/color_table.h"
 
 namespace lego::layout {
@@ -32,7 +33,7 @@ std::pair<int, int> parse_size(const std::string& what, const BrickCatalog& cata
                      "'" + what + "' is neither a size like 2x4 nor a part in the catalog");
   if (type->height != kPlatesPerBrick)
     throw InputError(file, line,
-                     "part " + type->part + " (" + type->name +
+                     "part " + type->part + " (" + readable_part_name(type->name) +
                          ") is not a brick: layouts are built of bricks only");
   return {type->length, type->width};
 }

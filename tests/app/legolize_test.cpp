@@ -649,6 +649,8 @@ TEST(Legolize, AFailedRefinementIsWrittenAndMarkedUnstable) {
   // Named as a builder finds it: its voxel and the step that places it.
   EXPECT_NE(r["bottleneck"].get<std::string>().find(" at voxel "), std::string::npos);
   EXPECT_NE(r["bottleneck"].get<std::string>().find(" (step "), std::string::npos);
+  // Its part by the name a builder reads ("Brick 2 x 3"), not the library's aligned title.
+  EXPECT_EQ(r["bottleneck"].get<std::string>().find("  "), std::string::npos) << r["bottleneck"];
   EXPECT_NE(run.out.find("UNSTABLE"), std::string::npos);
   EXPECT_NE(run.out.find("weakest: "), std::string::npos);
 }
