@@ -262,7 +262,7 @@ void carry_unconnected(Audit& audit, const physics::StabilityOptions& o) {
   if (carry_held_by_no_joint(audit, now.graph, wheel_or_tyre, PartRole::WheelOnNothing))
     now = floating_bricks(a, o);
   if (std::find(now.bricks.begin(), now.bricks.end(), 1) == now.bricks.end()) return;
-  auto floating_now = [&](const Assembly& now) { return floating_bricks(now, o).bricks; };
+  auto floating_now = [&](const Assembly& moved) { return floating_bricks(moved, o).bricks; };
   if (nudge_onto_the_lattice(audit.conversion, now.bricks, floating_now))
     now = floating_bricks(a, o);
   // Technic parts held by nothing but their pins, axles and holes, where those meet nothing that
@@ -460,9 +460,6 @@ void explain_falling_step(const Audit& audit, const physics::StabilityResult& r,
   }
 }
 
-// The model after `step`: its bricks and carried parts up to then, on the finished model's ground.
-// With `start`, a certificate begun from those forces decides it when it shows the step standing
-// (physics/step_stability.h); `forces` then receives the certificate's.
 // A step that builds a sub-assembly aside in MLCad's buffers: what its view shows of it, judged
 // alone on the table as audit_step judges a submodel built apart; nullopt for any other step.
 std::optional<StepAudit> audit_built_aside(const Audit& audit, int step,
@@ -510,6 +507,9 @@ std::optional<StepAudit> audit_built_aside(const Audit& audit, int step,
   return s;
 }
 
+// The model after `step`: its bricks and carried parts up to then, on the finished model's ground.
+// With `start`, a certificate begun from those forces decides it when it shows the step standing
+// (physics/step_stability.h); `forces` then receives the certificate's.
 StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options,
                      const physics::StepForces* start, physics::StepForces* forces) {
   if (auto built_aside = audit_built_aside(audit, step, options)) return *built_aside;
