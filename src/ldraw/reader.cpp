@@ -550,7 +550,7 @@ class Flattener {
 
   int parts_in_step() const { return int(model_.parts.size() - step_start_); }
   void end_step(const std::string& rotstep) {
-    model_.steps.push_back(Step{step_, parts_in_step(), rotstep});
+    model_.steps.push_back(Step{step_, parts_in_step(), rotstep, 0, {}});
     step_ends_.push_back({step_, int(views_.size()) - 1, model_.parts.size()});
     ++step_;
     step_start_ = model_.parts.size();

@@ -84,8 +84,8 @@ struct Model {
   // other lines (GHOST, usually), but in its parts list and in the steps that build them.
   std::vector<PlacedPart> aside;
   std::vector<SubmodelPlacement> placements;  // those that hold a part, directly or not
-  std::vector<Step> steps;
-  std::vector<Color> colors;  // `0 !COLOUR` definitions found in the file
+  std::vector<Step> steps;                    // steps[k].number is k + 1
+  std::vector<Color> colors;                  // `0 !COLOUR` definitions found in the file
   // What the colours are called and look like: ours (ldraw_parts/LDConfig.ldr), then the
   // libraries' LDConfig.ldr for codes we lack, then the file's own definitions.
   ColorTable color_table;

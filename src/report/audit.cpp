@@ -460,105 +460,48 @@ void explain_falling_step(const Audit& audit, const physics::StabilityResult& r,
   }
 }
 
-// A step that builds a sub-assembly aside in MLCad's buffers: what its view shows of it, judged
-// alone on the table as audit_step judges a submodel built apart; nullopt for any other step.
-std::optional<StepAudit> audit_built_aside(const Audit& audit, int step,
-                                           const AuditOptions& options) {
-  if (!audit.aside) return std::nullopt;
-  const ldraw::Step* read = nullptr;
-  for (const ldraw::Step& st : audit.model.steps)
-    if (st.number == step) read = &st;
-  if (!read || read->aside_shown.empty()) return std::nullopt;
-  const Audit& aside = *audit.aside;
-  const Assembly& all = aside.conversion.assembly;
-  auto shown = [&](size_t part) {
-    return std::binary_search(read->aside_shown.begin(), read->aside_shown.end(), int(part));
-  };
-  Assembly partial;
-  partial.origin_ldu = all.origin_ldu;
-  std::vector<int> index, carried_index;
-  for (int i = 0; i < int(all.bricks.size()); ++i)
-    if (shown(aside.conversion.brick_part[size_t(i)])) {
-      index.push_back(i);
-      partial.bricks.push_back(all.bricks[size_t(i)]);
-    }
-  for (int i = 0; i < int(all.carried.size()); ++i)
-    if (shown(aside.conversion.carried_part[size_t(i)])) {
-      carried_index.push_back(i);
-      partial.carried.push_back(all.carried[size_t(i)]);
-    }
-  StepAudit s;
-  s.step = step;
-  s.built_aside = true;
-  s.bricks = int(partial.bricks.size());
-  if (partial.bricks.empty()) {  // parts carried alone, or left out: nothing to stand or fall
-    s.stable = true;
-    return s;
-  }
-  physics::StabilityOptions stability = options.stability;
-  stability.ground = physics::GroundMode::Table;
-  const physics::StabilityResult r = physics::analyze_stability(partial, stability);
-  s.status = r.status;
-  s.cm_gf = r.cm_gf();
-  s.floating = int(r.connectivity.floating.size() + r.connectivity.floating_carried.size());
-  const Verdict v = verdict_of(r, options.min_cm_gf);
-  s.stable = v == Verdict::Stable || v == Verdict::NothingToAnalyse;
-  if (!s.stable) explain_falling_step(aside, r, index, carried_index, options.min_cm_gf, s);
-  return s;
-}
-
-// The model after `step`: its bricks and carried parts up to then, on the finished model's ground.
-// With `start`, a certificate begun from those forces decides it when it shows the step standing
-// (physics/step_stability.h); `forces` then receives the certificate's.
-StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options,
-                     const physics::StepForces* start, physics::StepForces* forces) {
-  if (auto built_aside = audit_built_aside(audit, step, options)) return *built_aside;
-  const Assembly& whole = audit.conversion.assembly;
-  // A step that builds a sub-assembly apart (a submodel with steps of its own) judges it alone,
-  // as built so far, on the table it is built on: resting at its lowest point, nothing holding
-  // its knobs. The model in place is as the step before left it.
-  const SourceRef* apart = nullptr;
-  for (const Brick& b : whole.bricks)
-    if (b.source.built_in == step) apart = &b.source;
-  for (const CarriedPart& c : whole.carried)
-    if (!apart && c.source.built_in == step) apart = &c.source;
-  auto placed = [&](const SourceRef& s) {
-    if (!apart) return s.step <= step;
-    return s.apart_from == apart->apart_from && s.step == apart->step && s.built_in > 0 &&
-           s.built_in <= step;
-  };
+// One step's judgement: the bricks and carried parts of `from` that `placed` takes (by their
+// source and their index into its model's parts), on the table they are built on when
+// `on_table` (resting at their lowest point, nothing holding their knobs), else on the finished
+// model's ground with the loads on what is placed. With `start`, a certificate begun from those
+// forces decides it when it shows the step standing (physics/step_stability.h); `forces` then
+// receives the certificate's.
+StepAudit judge_step(const Audit& from, int step,
+                     const std::function<bool(const SourceRef&, size_t part)>& placed,
+                     bool on_table, const AuditOptions& options, const physics::StepForces* start,
+                     physics::StepForces* forces) {
+  const Assembly& whole = from.conversion.assembly;
   Assembly partial;
   partial.origin_ldu = whole.origin_ldu;
-  if (!apart) {
-    partial.ground_height = audit.stability.graph.ground_height;
-    partial.ground_slope = audit.stability.graph.ground_slope;
+  if (!on_table) {
+    partial.ground_height = from.stability.graph.ground_height;
+    partial.ground_slope = from.stability.graph.ground_slope;
   }
   std::vector<int> index(whole.bricks.size(), -1), whole_index, whole_carried_index;
   for (int i = 0; i < int(whole.bricks.size()); ++i)
-    if (placed(whole.bricks[size_t(i)].source)) {
+    if (placed(whole.bricks[size_t(i)].source, from.conversion.brick_part[size_t(i)])) {
       index[size_t(i)] = int(partial.bricks.size());
       whole_index.push_back(i);
       partial.bricks.push_back(whole.bricks[size_t(i)]);
     }
   for (int i = 0; i < int(whole.carried.size()); ++i)
-    if (placed(whole.carried[size_t(i)].source)) {
+    if (placed(whole.carried[size_t(i)].source, from.conversion.carried_part[size_t(i)])) {
       whole_carried_index.push_back(i);
       partial.carried.push_back(whole.carried[size_t(i)]);
     }
   for (const auto& load : whole.loads)
-    if (!apart && index[size_t(load.brick)] >= 0)
+    if (!on_table && index[size_t(load.brick)] >= 0)
       partial.loads.push_back(
           {index[size_t(load.brick)], load.force_n, load.spread_over_top_knobs, load.point});
   StepAudit s;
   s.step = step;
   s.bricks = int(partial.bricks.size());
-  s.apart = apart != nullptr;
   if (partial.bricks.empty() && partial.carried.empty()) {
     s.stable = true;
     return s;
   }
   physics::StabilityOptions stability = options.stability;
-  if (apart) stability.ground = physics::GroundMode::Table;
+  if (on_table) stability.ground = physics::GroundMode::Table;
   physics::StepStability analysed =
       physics::analyze_step(partial, whole_index, start ? *start : physics::StepForces{}, stability,
                             start ? std::optional<double>(options.min_cm_gf) : std::nullopt);
@@ -571,7 +514,43 @@ StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options,
   s.stable = v == Verdict::Stable || v == Verdict::NothingToAnalyse;
   if (forces) *forces = std::move(analysed.forces);
   if (!s.stable)
-    explain_falling_step(audit, r, whole_index, whole_carried_index, options.min_cm_gf, s);
+    explain_falling_step(from, r, whole_index, whole_carried_index, options.min_cm_gf, s);
+  return s;
+}
+
+// The model after `step`: its bricks and carried parts up to then, judged by judge_step. A step
+// that builds a sub-assembly apart (a submodel with steps of its own) judges it alone, as built
+// so far, on the table, and one that builds aside in MLCad's buffers judges what its view shows
+// of Audit::aside so; the model in place is as the step before left it. `start`, `forces`: as
+// judge_step's, for the model in place (a sub-assembly's step begins from no forces there).
+StepAudit audit_step(const Audit& audit, int step, const AuditOptions& options,
+                     const physics::StepForces* start, physics::StepForces* forces) {
+  const auto& steps = audit.model.steps;  // steps[k] is step k + 1
+  if (audit.aside && step >= 1 && step <= int(steps.size()) &&
+      !steps[size_t(step - 1)].aside_shown.empty()) {
+    const std::vector<int>& shown = steps[size_t(step - 1)].aside_shown;  // ascending
+    StepAudit s = judge_step(
+        *audit.aside, step,
+        [&](const SourceRef&, size_t part) {
+          return std::binary_search(shown.begin(), shown.end(), int(part));
+        },
+        /*on_table=*/true, options, nullptr, nullptr);
+    s.built_aside = true;
+    return s;
+  }
+  const Assembly& whole = audit.conversion.assembly;
+  const SourceRef* apart = nullptr;
+  for (const Brick& b : whole.bricks)
+    if (b.source.built_in == step) apart = &b.source;
+  for (const CarriedPart& c : whole.carried)
+    if (!apart && c.source.built_in == step) apart = &c.source;
+  auto placed = [&](const SourceRef& s, size_t) {
+    if (!apart) return s.step <= step;
+    return s.apart_from == apart->apart_from && s.step == apart->step && s.built_in > 0 &&
+           s.built_in <= step;
+  };
+  StepAudit s = judge_step(audit, step, placed, apart != nullptr, options, start, forces);
+  s.apart = apart != nullptr;
   return s;
 }
 
