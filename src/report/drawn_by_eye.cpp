@@ -16,19 +16,27 @@ bool upright(const Brick& b) {
   return std::abs(std::abs(b.pose->rotation[4]) - 1) < 1e-9;
 }
 
+// The shift (LDU) that brings `v` onto the grid of `pitch` through `at`, when it is at most
+// `reach`; else zero.
+double shift_within(double v, double at, double pitch, double reach) {
+  const double shift = onto_grid(v, at, pitch);
+  return std::abs(shift) <= reach + 1e-6 ? shift : 0.0;
+}
+
 }  // namespace
 
 void take_onto_the_plates(parts::AssemblyConversion& conversion) {
   // One LDU and no farther; a part closer than this to its plates is on them.
-  constexpr double kPlateSlip = 1.0 + 1e-6, kOnPlates = 1e-3;
+  constexpr double kPlateSlip = 1.0, kOnPlates = 1e-3;
   for (Brick& b : conversion.assembly.bricks) {
     // The slip brings studs onto the plates: a part with none, held on lines by pins, bars or
     // clips (an exhaust pipe in a headlight brick's hole), stays where it is drawn.
     const PartShape& shape = b.type->shape;
     if (!b.pose || b.frame || !upright(b) || (shape.studs.empty() && shape.receptacles.empty()))
       continue;
-    const double slip = onto_grid(b.pose->origin[1], conversion.plates, kLduPerPlate);
-    if (std::abs(slip) <= kOnPlates || std::abs(slip) > kPlateSlip) continue;
+    const double slip =
+        shift_within(b.pose->origin[1], conversion.plates, kLduPerPlate, kPlateSlip);
+    if (std::abs(slip) <= kOnPlates) continue;
     b.pose->origin[1] += slip;
     conversion.diagnostics.push_back(
         {ldraw::Severity::Warning, b.source.file, b.source.line,
@@ -65,18 +73,16 @@ bool nudge_onto_the_lattice(parts::AssemblyConversion& conversion,
   const auto grid = std::max_element(votes.begin(), votes.end(), most)->first;
   const long plates =
       heights.empty() ? 0 : std::max_element(heights.begin(), heights.end(), most)->first;
-  auto slip = [&](double v, long at, double pitch, double reach) {
-    const double shift = onto_grid(v, double(at) / 100, pitch);
-    return std::abs(shift) <= reach + 1e-6 ? shift : 0.0;
-  };
   std::vector<std::pair<int, Vec3>> moved;  // brick, its origin as drawn
   for (size_t i = 0; i < a.bricks.size(); ++i) {
     Brick& b = a.bricks[i];
     if (!floating[i] || !b.pose || b.frame) continue;
     const Vec3 shift{
-        slip(b.pose->origin[0], grid.first, kGrid, kStudInCellLdu),
-        upright(b) ? slip(b.pose->origin[1], plates, kLduPerPlate, kHalfStudHeight) : 0.0,
-        slip(b.pose->origin[2], grid.second, kGrid, kStudInCellLdu)};
+        shift_within(b.pose->origin[0], double(grid.first) / 100, kGrid, kStudInCellLdu),
+        upright(b)
+            ? shift_within(b.pose->origin[1], double(plates) / 100, kLduPerPlate, kHalfStudHeight)
+            : 0.0,
+        shift_within(b.pose->origin[2], double(grid.second) / 100, kGrid, kStudInCellLdu)};
     if (std::max({std::abs(shift[0]), std::abs(shift[1]), std::abs(shift[2])}) < 1e-3) continue;
     moved.emplace_back(int(i), b.pose->origin);
     for (int k = 0; k < 3; ++k) b.pose->origin[size_t(k)] += shift[size_t(k)];
