@@ -35,13 +35,17 @@ Vec3 transformed(const Transform& t, const Vec3& p) {
   return out;
 }
 
-// The direction a stud placed by `t` points (its primitive points to -y), if axis-aligned.
-std::optional<int> stud_direction(const Transform& t) {
-  const Vec3 d{-t.rot[1], -t.rot[4], -t.rot[7]};
+// The direction (core/part_shape.h) that `d` points along, if it lies along one of the axes.
+std::optional<int> axis_direction(const Vec3& d) {
   const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   for (int a = 0; a < 3; ++a)
     if (std::abs(std::abs(d[a]) - length) < 1e-3 * length) return direction_of(a, d[a] < 0);
   return std::nullopt;
+}
+
+// The direction a stud placed by `t` points (its primitive points to -y), if axis-aligned.
+std::optional<int> stud_direction(const Transform& t) {
+  return axis_direction({-t.rot[1], -t.rot[4], -t.rot[7]});
 }
 
 // Splits text into lines at LF, CR LF or a bare CR.
@@ -206,16 +210,12 @@ void add_subfile(PartGeometry& g, const Transform& t, std::string_view base,
     axis[size_t(axis_of(s.direction))] = sign_of(s.direction);
     Transform turn = t;
     turn.pos = {0, 0, 0};
-    const Vec3 d = transformed(turn, axis);
-    const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    int direction = -1;
-    for (int a = 0; a < 3 && length > 0; ++a)
-      if (std::abs(std::abs(d[a]) - length) < 1e-3 * length) direction = direction_of(a, d[a] < 0);
-    if (direction < 0) {
+    const auto direction = axis_direction(transformed(turn, axis));
+    if (!direction) {
       ++g.angled_studs;
       continue;
     }
-    g.studs.push_back({transformed(t, s.at), direction});
+    g.studs.push_back({transformed(t, s.at), *direction});
   }
   g.angled_studs += sub.angled_studs;
   // Names, not occurrences: a missing file placed 20 times over 7 levels is one name.
