@@ -35,6 +35,7 @@
 #include "layout/refine.h"
 #include "layout/supports.h"
 #include "layout/to_assembly.h"
+#include "layout/where_on_model.h"
 #include "ldraw/reader.h"
 #include "ldraw/writer.h"
 #include "mesh/mesh.h"
@@ -123,7 +124,9 @@ fs::path piece_file(const fs::path& path, int piece) {
 }
 
 struct PieceResult;
+// A brick of a piece as a builder finds it on the model (layout/where_on_model.h), in words.
 std::string describe_brick(const PieceResult& piece, int brick);
+report::NamedBrick named_brick(const PieceResult& piece, int brick);
 
 // Rounds of supports for build steps that fall, each followed by a new build order.
 constexpr int kStepSupportRounds = 3;
@@ -161,6 +164,7 @@ struct PieceResult {
   layout::ColorChanges colours;  // of the finished layout against its voxels
   bool stable = true, steps_stand = true;
   std::string bottleneck;
+  std::vector<report::NamedBrick> bottleneck_bricks;  // the bricks `bottleneck` names
   layout::BuildOrder order;
   double seconds_initialize = 0, seconds_refine = 0, seconds_supports = 0, seconds_order = 0;
 };
@@ -308,17 +312,19 @@ Clock::time_point order_with_step_supports(const PieceSettings& s, bool refining
   return t;
 }
 
-// Where the finished piece fails, as a builder finds it: the brick, its voxel (as --load names it)
-// and the step that places it.
-std::string bottleneck_words(const PieceResult& out) {
+// Where the finished piece fails, as a builder finds it: the bricks, where they are on the model
+// and the steps that place them (and their voxels, as --load takes them, in `named`).
+std::string bottleneck_words(const PieceResult& out, std::vector<report::NamedBrick>& named) {
   const auto& f = out.refined.final;
   auto placed = [&](int brick) {
-    return brick < 0 ? describe_brick(out, brick)
-                     : fmt::format("{} (step {})", describe_brick(out, brick),
-                                   out.order.step_of[size_t(brick)]);
+    if (brick < 0) return describe_brick(out, brick);
+    named.push_back(named_brick(out, brick));
+    return fmt::format("{} (step {})", named.back().words(), named.back().step);
   };
-  if (!f.weakest.empty())
-    return placed(f.weakest.front().lower) + " holding " + placed(f.weakest.front().upper);
+  if (!f.weakest.empty()) {
+    const std::string lower = placed(f.weakest.front().lower);
+    return lower + " holding " + placed(f.weakest.front().upper);
+  }
   if (!f.unbalanced.empty()) {
     std::vector<std::string> shown;
     for (size_t k = 0; k < std::min<size_t>(f.unbalanced.size(), 3); ++k)
@@ -349,7 +355,8 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
   // What this piece uses is not there for the next (after the refinement and the supports,
   // which may change it).
   s.rules->limits.use_up(*out.lay);
-  if (!out.stable && out.bottleneck.empty()) out.bottleneck = bottleneck_words(out);
+  if (!out.stable && out.bottleneck.empty())
+    out.bottleneck = bottleneck_words(out, out.bottleneck_bricks);
   const std::vector<int> moved = layout::apply_build_order(out.la.assembly, out.order);
   std::vector<int> layout_id(moved.size());
   for (size_t k = 0; k < moved.size(); ++k) layout_id[k] = out.la.layout_id[size_t(moved[k])];
@@ -371,12 +378,19 @@ PieceResult convert_piece(layout::Piece& piece, Random& rng, const PieceSettings
   return out;
 }
 
-std::string describe_brick(const PieceResult& p, int brick) {
-  if (brick == physics::kGround) return "the ground";
+report::NamedBrick named_brick(const PieceResult& p, int brick) {
   const Brick& b = p.la.assembly.bricks[size_t(brick)];
   const layout::LayoutBrick& lb = p.lay->brick(p.la.layout_id[size_t(brick)]);
-  return fmt::format("{} {} at voxel {},{},{}", b.type->part, readable_part_name(b.type->name),
-                     lb.x, lb.y + p.lift, lb.z);
+  return {.part = b.type->part,
+          .name = readable_part_name(b.type->name),
+          .step = p.order.step_of.empty() ? 0 : p.order.step_of[size_t(brick)],
+          .where = layout::where_on_model(p.la.assembly, brick),
+          .voxel = {lb.x, lb.y + p.lift, lb.z}};
+}
+
+std::string describe_brick(const PieceResult& p, int brick) {
+  if (brick == physics::kGround) return "the ground";
+  return named_brick(p, brick).words();
 }
 
 // A run of legolize: its options, its clock and progress lines, and the report it fills.
@@ -648,6 +662,9 @@ void write_outputs(Run& run, const std::vector<const Assembly*>& assemblies,
   if (std::isfinite(rep.cm_gf_final)) booklet.cm_gf = rep.cm_gf_final;
   booklet.verdict = fmt::format("The finished model: C_M = {} ({}).", cm_words(rep.cm_gf_final),
                                 rep.stable ? "it stands" : "it does not stand");
+  if (!rep.bottleneck.empty()) booklet.verdict += " Weakest: " + rep.bottleneck + ".";
+  if (!rep.bottleneck_bricks.empty() || !rep.steps_stand)
+    booklet.verdict += std::string(" ") + layout::kWhereOnModelKey;
   const std::string note =
       report::write_booklet(o.instructions, booklet, default_parts_dir(), run.stage_sink());
   if (!note.empty()) std::cerr << "legolize: " << note << "\n";
@@ -846,9 +863,11 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
     seconds_refine += r.seconds_refine;
     seconds_supports += r.seconds_supports;
     seconds_order += r.seconds_order;
-    if (!r.stable && rep.bottleneck.empty())
+    if (!r.stable && rep.bottleneck.empty()) {
       rep.bottleneck =
           results.size() > 1 ? fmt::format("piece {}: {}", k + 1, r.bottleneck) : r.bottleneck;
+      rep.bottleneck_bricks = r.bottleneck_bricks;
+    }
     add_steps(r, rep);
     // A piece built apart (only with --no-supports: layout/pieces.h) floats where the mesh puts
     // it, whatever it is alone: brickcheck says so of the file, and so do we.

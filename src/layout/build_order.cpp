@@ -325,7 +325,7 @@ StepAnalysis analyse_step(const Planner& p, PlannedStep planned, const BuildOrde
     } else if (r.status != physics::StabilityStatus::Solved) {
       s.why = physics::to_string(r.status);
     } else if (!r.weakest.empty()) {
-      s.why = fmt::format("C_M {:.3f} gf at {} holding {}", s.cm_gf, name(r.weakest.front().lower),
+      s.why = fmt::format("C_M {:.3f} gf: {} holding {}", s.cm_gf, name(r.weakest.front().lower),
                           name(r.weakest.front().upper));
       falling({r.weakest.front().lower, r.weakest.front().upper});
     } else {

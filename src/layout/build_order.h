@@ -28,8 +28,8 @@ struct BuildOrderOptions {
   // stands); false: one by one. With them, always one by one (plan_build_order says why).
   bool side_by_side = true;
   std::function<void(int step, int steps_so_far, double seconds)> progress;  // may be empty
-  // How a step that falls names a brick of the assembly (legolize: its part and voxel, as
-  // --load takes them); empty: its part and lattice corner.
+  // How a step that falls names a brick of the assembly (legolize: its part and where it is on
+  // the model, layout/where_on_model.h); empty: its part and lattice corner.
   std::function<std::string(int brick)> describe;
 };
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <fmt/format.h>
+
 namespace lego::report {
 
 namespace {
@@ -11,6 +13,10 @@ nlohmann::json number_or_null(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 }  // namespace
+
+std::string NamedBrick::words() const {
+  return fmt::format("{} ({}) {}", name, part, where);
+}
 
 nlohmann::json to_json(const ConversionReport& r) {
   nlohmann::json j;
@@ -45,6 +51,16 @@ nlohmann::json to_json(const ConversionReport& r) {
   for (auto& [stage, s] : r.seconds) seconds[stage] = s;
   j["seconds"] = seconds;
   if (!r.bottleneck.empty()) j["bottleneck"] = r.bottleneck;
+  if (!r.bottleneck_bricks.empty()) {
+    nlohmann::json named = nlohmann::json::array();
+    for (const NamedBrick& b : r.bottleneck_bricks)
+      named.push_back({{"part", b.part},
+                       {"name", b.name},
+                       {"step", b.step},
+                       {"where", b.where},
+                       {"voxel", b.voxel}});
+    j["bottleneck_bricks"] = named;
+  }
   nlohmann::json steps = nlohmann::json::array();
   double smallest = std::numeric_limits<double>::infinity();
   for (const StepReport& s : r.steps) {

@@ -27,6 +27,17 @@ struct StepReport {
   std::vector<std::array<double, 3>> falling_at;
 };
 
+// A brick the report names (the weakest contact's two, or what no forces hold), as a builder finds
+// it and as --load takes it.
+struct NamedBrick {
+  std::string part, name;  // "3003", "Brick 2 x 2"
+  int step = 0;            // that places it
+  std::string where;       // layout/where_on_model.h
+  std::array<int, 3> voxel{0, 0, 0};
+
+  std::string words() const;  // "Brick 2 x 2 (3003) at the front left corner of layer 4"
+};
+
 // One piece of the model (layout/pieces.h).
 struct PieceReport {
   int piece = 1;
@@ -85,6 +96,7 @@ struct ConversionReport {
   int rejected_by_bound = 0;
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
   std::string bottleneck;                               // words, when not stable
+  std::vector<NamedBrick> bottleneck_bricks;            // the bricks those words name
   std::vector<StepReport> steps;
   int held_back = 0;  // bricks moved after their layer's step so that a step stands
   bool steps_stand = false;

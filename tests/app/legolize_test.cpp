@@ -345,6 +345,27 @@ fs::path mushroom() {
                                     {0, 4 * 9.6, 0, 96, 7 * 9.6, 96}});  // the cap, 3 bricks thick
 }
 
+// An arm reaching out of the front of a block, at its left, with a weight on its tip: the weakest
+// contact is the arm's, named as the booklet's pictures show it (the mesh's front, +z, is the
+// front; its -x the left), with the voxels --load takes.
+TEST(Legolize, TheWeakestPlaceIsNamedWhereABuilderSeesIt) {
+  const auto obj = boxes_obj("arm.obj", {{0, 0, 0, 64, 2 * 9.6, 48},       // the block
+                                         {0, 9.6, 48, 16, 2 * 9.6, 88}});  // the arm
+  auto out = scratch("arm.ldr"), report = scratch("arm.json");
+  auto run = run_tool("legolize", {obj.string(), "--scale", "1", "--solid", "--no-refine",
+                                   "--no-supports", "--load", "0,1,10:400", "-o", out.string(),
+                                   "--report", report.string(), "--quiet"});
+  EXPECT_EQ(run.exit_code, 1) << run.err << run.out;
+  const auto r = read_json(report);
+  ASSERT_FALSE(r["bottleneck_bricks"].empty()) << r;
+  for (const auto& b : r["bottleneck_bricks"]) {
+    EXPECT_NE(b["where"].get<std::string>().find("front left corner"), std::string::npos) << b;
+    EXPECT_LE(b["voxel"][0].get<int>(), 1) << b;  // the arm's voxels: x 0-1, z 6-10
+    EXPECT_GE(b["voxel"][2].get<int>(), 6) << b;
+  }
+  EXPECT_NE(run.out.find("weakest: Brick"), std::string::npos) << run.out;
+}
+
 // A slab 24 studs square and 4 bricks high has layers of over 100 bricks: each is built in
 // steps of at most 30 nearby bricks, every one standing, most shown by a certificate.
 TEST(Legolize, WideLayersAreBuiltInSmallStepsOfNearbyBricks) {
@@ -646,9 +667,18 @@ TEST(Legolize, AFailedRefinementIsWrittenAndMarkedUnstable) {
   EXPECT_LT(r["cm_gf_final"].get<double>(), 0);
   EXPECT_EQ(r["iterations"].get<int>(), 3);
   EXPECT_NE(r["bottleneck"].get<std::string>().find("holding"), std::string::npos);
-  // Named as a builder finds it: its voxel and the step that places it.
-  EXPECT_NE(r["bottleneck"].get<std::string>().find(" at voxel "), std::string::npos);
+  // Named as a builder finds it: where it is in its layer and the step that places it; its
+  // voxel, as --load takes it, in the report's data.
+  EXPECT_NE(r["bottleneck"].get<std::string>().find("layer "), std::string::npos);
   EXPECT_NE(r["bottleneck"].get<std::string>().find(" (step "), std::string::npos);
+  EXPECT_EQ(r["bottleneck"].get<std::string>().find("voxel"), std::string::npos);
+  ASSERT_EQ(r["bottleneck_bricks"].size(), 2u) << r["bottleneck_bricks"];
+  for (const auto& b : r["bottleneck_bricks"]) {
+    EXPECT_NE(r["bottleneck"].get<std::string>().find(b["where"].get<std::string>()),
+              std::string::npos);
+    EXPECT_EQ(b["voxel"].size(), 3u);
+    EXPECT_GE(b["step"].get<int>(), 1);
+  }
   // Its part by the name a builder reads ("Brick 2 x 3"), not the library's aligned title.
   EXPECT_EQ(r["bottleneck"].get<std::string>().find("  "), std::string::npos) << r["bottleneck"];
   EXPECT_NE(run.out.find("UNSTABLE"), std::string::npos);
@@ -728,8 +758,8 @@ TEST(Legolize, StepsThatFallAreNamedWithWhy) {
     if (!step["stands"].get<bool>()) {
       ++falling;
       EXPECT_NE(step["why"].get<std::string>().find("holding"), std::string::npos) << step;
-      // Bricks are named by voxel, as --load and the summary's weakest contact name them.
-      EXPECT_NE(step["why"].get<std::string>().find(" at voxel "), std::string::npos) << step;
+      // Bricks are named by where they are on the model, as the summary's weakest contact.
+      EXPECT_NE(step["why"].get<std::string>().find("layer "), std::string::npos) << step;
       EXPECT_NE(run.out.find("step " + std::to_string(step["step"].get<int>()) + " falls: "),
                 std::string::npos);
     }
