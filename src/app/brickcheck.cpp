@@ -331,7 +331,7 @@ void add_options(CLI::App& app, Arguments& a) {
                  "repeatable")
       ->allow_extra_args(false);
   app.add_option("--min-cm", a.min_cm, "stability threshold for C_M in grams-force (default 0)")
-      ->check(app::finite_number());
+      ->check(app::cm_threshold(physics::kMaxFrictionLoad / physics::kGravity));
   app.add_option("--main", a.main_model, "the MPD model to check instead of the first FILE");
   app.add_option("--max-seconds", a.max_seconds,
                  "give up on a model's stability after this long, and on its build steps after as "

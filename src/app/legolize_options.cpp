@@ -89,7 +89,7 @@ void add_options(CLI::App& app, LegolizeOptions& o) {
 
   auto* g_physics = "Stability";
   app.add_option("--min-cm", o.min_cm, "refine until C_M exceeds this many grams-force (default 0)")
-      ->check(finite_number())
+      ->check(cm_threshold(physics::kMaxFrictionLoad / physics::kGravity))
       ->group(g_physics);
   app.add_option("--load-top", o.load_top, "a weight in grams spread over the model's top knobs")
       ->check(finite_number(Sign::NonNegative, physics::kMaxLoadGrams))

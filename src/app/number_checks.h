@@ -35,4 +35,20 @@ inline CLI::Validator finite_number(Sign sign = Sign::Any, double at_most = INFI
       words);
 }
 
+// A C_M threshold (--min-cm, gf): finite and below T, the most C_M can be (a model that pulls on
+// no knob has C_M = T), so that a threshold no model can exceed is a usage error, not a verdict.
+inline CLI::Validator cm_threshold(double t_gf) {
+  const std::string words = fmt::format(
+      "a finite number below {} (T: no model's C_M exceeds a knob's friction "
+      "capacity, which it has when no knob is pulled)",
+      t_gf);
+  return CLI::Validator(
+      [t_gf, words](std::string& text) -> std::string {
+        std::string checked = text;
+        if (std::string why = finite_number()(checked); !why.empty()) return why;
+        return std::stod(text) < t_gf ? std::string() : "'" + text + "' is not " + words;
+      },
+      words);
+}
+
 }  // namespace lego::app

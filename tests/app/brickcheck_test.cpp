@@ -605,6 +605,13 @@ TEST(Brickcheck, GroundThresholdAndLoads) {
   EXPECT_EQ(table["status"], "no equilibrium");
   EXPECT_TRUE(table["cm_gf"].is_null());
   EXPECT_EQ(check_json({"--min-cm", "71", path.string()}, 1)["stable"], false);
+  // No model's C_M exceeds T (a lone brick on the ground has T): a threshold at T or above is a
+  // usage error, not a verdict on the model.
+  for (const char* unreachable : {"71.658", "100"}) {
+    auto run = run_tool("brickcheck", {"--min-cm", unreachable, path.string()});
+    EXPECT_EQ(run.exit_code, 2) << unreachable;
+    EXPECT_NE(run.err.find("below 71.658"), std::string::npos) << run.err;
+  }
   // 10 g on the beam's top knobs costs (3.08 + 10) / 18 g of capacity.
   json loaded = check_json({"--load", "8=10", bridge('b', 1).string()}, 0);
   EXPECT_NEAR(loaded["cm_gf"].get<double>(), 71.658 - (3.08 + 10) / 18, 1e-6);

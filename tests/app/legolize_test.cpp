@@ -798,6 +798,7 @@ TEST(Legolize, TheBookletShowsWhatFallsInEachStepThatFalls) {
 TEST(Legolize, NumbersAreFiniteExtensionsAnyCaseAndVoxelsHaveNoCm) {
   const auto out = scratch("n.ldr");
   for (const std::vector<std::string>& option : {std::vector<std::string>{"--min-cm", "nan"},
+                                                 {"--min-cm", "72"},  // above T: unreachable
                                                  {"--scale", "0"},
                                                  {"--max-voxels", "-1"},
                                                  {"--load-top", "inf"},
