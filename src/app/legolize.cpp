@@ -234,11 +234,13 @@ bool refine_and_support(Random& rng, const PieceSettings& s, const layout::Merge
       out.refined.final = out.supports.final;
       out.stable = out.supports.stable;
     }
-    s.stage(fmt::format("supports: {} column{} ({} voxels), C_M {}; {} analyses ({:.2f} s){}",
-                        out.supports.columns.size(), out.supports.columns.size() == 1 ? "" : "s",
-                        out.supports.voxels, analysis_words(out.refined.final),
-                        out.supports.analyses, seconds_since(t),
-                        out.supports.out_of_time ? ", out of time" : ""));
+    s.stage(
+        fmt::format("columns: {} inside the hollow ({} voxels), {} support{} ({} voxels), C_M "
+                    "{}; {} analyses ({:.2f} s){}",
+                    out.supports.inside_columns(), out.supports.inside_voxels,
+                    out.supports.support_columns(), out.supports.support_columns() == 1 ? "" : "s",
+                    out.supports.voxels, analysis_words(out.refined.final), out.supports.analyses,
+                    seconds_since(t), out.supports.out_of_time ? ", out of time" : ""));
     out.seconds_supports = seconds_since(t);
     if (!out.stable && !out.supports.columns.empty() && out.seconds_refine < s.refine.max_seconds) {
       t = Clock::now();
@@ -302,6 +304,7 @@ Clock::time_point order_with_step_supports(const PieceSettings& s, bool refining
     out.supports.columns.insert(out.supports.columns.end(), added.columns.begin(),
                                 added.columns.end());
     out.supports.voxels += added.voxels;
+    out.supports.inside_voxels += added.inside_voxels;
     out.supports.analyses += added.analyses;
     assemble(s, out);
     out.refined.final = physics::analyze_stability(out.la.assembly, s.refine.stability);
@@ -766,7 +769,7 @@ std::vector<PieceResult> convert_pieces(const Run& run, Plan& p,
   settings.supports.progress = [&](int columns, double cm_gf) {
     if (o.quiet) return;
     last = Clock::now();
-    run.stage(fmt::format("supports: {} column{}, C_M {}", columns, columns == 1 ? "" : "s",
+    run.stage(fmt::format("columns: {} (inside the hollow or supports), C_M {}", columns,
                           cm_words(cm_gf)));
   };
   settings.order.stability = p.refine.stability;
@@ -842,7 +845,9 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
     rep.components += r.connect.components;
     rep.pieces_before_joining += r.pieces_before;
     rep.voxels_added_to_join += r.voxels_added;
-    rep.support_columns += int(r.supports.columns.size());
+    rep.support_columns += r.supports.support_columns();
+    rep.inside_columns += r.supports.inside_columns();
+    rep.inside_column_voxels += r.supports.inside_voxels;
     rep.support_bricks += r.support_bricks;
     rep.colour_changes.visible += r.colours.visible;
     rep.colour_changes.changed += r.colours.changed;
@@ -889,9 +894,11 @@ size_t report_pieces(Run& run, const std::vector<PieceResult>& results) {
          .components = r.connect.components,
          .components_before_joining = r.pieces_before,
          .voxels_added = r.voxels_added,
-         .support_columns = int(r.supports.columns.size()),
+         .support_columns = r.supports.support_columns(),
          .support_bricks = r.support_bricks,
          .support_voxels = r.supports.voxels,
+         .inside_columns = r.supports.inside_columns(),
+         .inside_column_voxels = r.supports.inside_voxels,
          .cm_gf = cm,
          .stable = r.stable,
          .steps_stand = r.steps_stand,
@@ -997,6 +1004,12 @@ void print_summary(const Run& run, const std::vector<PieceResult>& results, size
                                    "model with the layer they stand on",
                                    first, where));
   }
+  if (rep.inside_columns > 0)
+    std::cout << fmt::format(
+        "inside: {} column{} of {} voxels built in the model's hollow, under what its weight "
+        "breaks, in the inside colour (hidden){}\n",
+        rep.inside_columns, rep.inside_columns == 1 ? "" : "s", rep.inside_column_voxels,
+        rep.stable ? ", so that it stands" : "");
   if (!rep.stable) std::cout << "weakest: " << rep.bottleneck << "\n";
   if (!rep.steps.empty() && !rep.steps_analysed) {
     std::cout << fmt::format("build steps: {}, not analysed (--no-step-analysis)\n",

@@ -119,7 +119,8 @@ void add_options(CLI::App& app, LegolizeOptions& o) {
                              o.support_color))
       ->group(g_physics);
   app.add_flag("--no-supports", o.no_supports,
-               "never add supports: a layout that does not stand is written as it is (exit 1)")
+               "never add columns, in the model's hollow or supports from the ground: a layout "
+               "that does not stand is written as it is (exit 1)")
       ->group(g_physics);
   app.add_flag("--no-step-analysis", o.no_step_analysis,
                "order the build steps by studs alone, without analysing each step (each analysis "

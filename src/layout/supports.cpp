@@ -1,6 +1,7 @@
 #include "layout/supports.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -46,8 +47,67 @@ std::vector<SupportColumn> possible_columns(const Layout& layout) {
             if (b == 0) ground_free = false;
             if (b > 0) top = top < 0 ? b : std::min(top, b);
           }
-        SupportColumn c{x, z, sx, sz, top};
+        SupportColumn c{x, z, sx, sz, 0, top, false};
         if (ground_free && top > 0) out.push_back(c);
+      }
+  return out;
+}
+
+// The model's hollow: per cell, whether it is empty and enclosed by the model (no path of empty
+// cells, face to face, leads out of the grid).
+std::vector<char> hollow_cells(const Target& t) {
+  std::vector<char> outside(t.color.size(), 0);
+  std::vector<std::array<int, 3>> stack;
+  auto reach = [&](int x, int y, int z) {
+    if (!t.contains(x, y, z) || t.at(x, y, z) != kEmpty || outside[t.index(x, y, z)]) return;
+    outside[t.index(x, y, z)] = 1;
+    stack.push_back({x, y, z});
+  };
+  for (int y = 0; y < t.height; ++y)
+    for (int z = 0; z < t.depth; ++z)
+      for (int x = 0; x < t.width; ++x)
+        if (x == 0 || y == 0 || z == 0 || x == t.width - 1 || y == t.height - 1 || z == t.depth - 1)
+          reach(x, y, z);
+  while (!stack.empty()) {
+    const auto [x, y, z] = stack.back();
+    stack.pop_back();
+    reach(x - 1, y, z);
+    reach(x + 1, y, z);
+    reach(x, y - 1, z);
+    reach(x, y + 1, z);
+    reach(x, y, z - 1);
+    reach(x, y, z + 1);
+  }
+  std::vector<char> hollow(t.color.size(), 0);
+  for (size_t i = 0; i < hollow.size(); ++i) hollow[i] = t.color[i] == kEmpty && !outside[i];
+  return hollow;
+}
+
+// Every column that fits inside the model: a footprint's cells hollow over a run of layers, the
+// run as long as it goes. The hollow is enclosed, so that the model is under the run (its floor)
+// and over it (its ceiling) on some of the footprint's cells.
+std::vector<SupportColumn> possible_inside_columns(const Layout& layout) {
+  const Target& t = layout.target();
+  const std::vector<char> hollow = hollow_cells(t);
+  std::vector<SupportColumn> out;
+  for (const auto& [sx, sz] : {std::pair{2, 2}, std::pair{2, 1}, std::pair{1, 2}, std::pair{1, 1}})
+    for (int z = 0; z + sz <= t.depth; ++z)
+      for (int x = 0; x + sx <= t.width; ++x) {
+        auto all_hollow = [&](int y) {
+          for (int dz = 0; dz < sz; ++dz)
+            for (int dx = 0; dx < sx; ++dx)
+              if (!hollow[t.index(x + dx, y, z + dz)]) return false;
+          return true;
+        };
+        for (int y = 0; y < t.height;) {
+          if (!all_hollow(y)) {
+            ++y;
+            continue;
+          }
+          const int bottom = y;
+          while (y < t.height && all_hollow(y)) ++y;
+          out.push_back({x, z, sx, sz, bottom, y - bottom, true});
+        }
       }
   return out;
 }
@@ -92,7 +152,7 @@ std::vector<SupportColumn> columns_to_try(const Layout& layout,
   std::vector<SupportColumn> out;
   for (const Centre& centre : centres) {
     auto distance = [&](const SupportColumn& c) {
-      const double up = centre.layer ? 1.2 * (c.layers - *centre.layer) : 0.0;
+      const double up = centre.layer ? 1.2 * (c.top() - *centre.layer) : 0.0;
       return std::hypot(c.x + c.size_x / 2.0 - centre.x, c.z + c.size_z / 2.0 - centre.z, up);
     };
     std::vector<SupportColumn> nearest = possible;
@@ -116,12 +176,30 @@ std::vector<SupportColumn> columns_to_try(const Layout& layout,
   return out;
 }
 
+// The inside columns whose tops are near the weak place (a layer counts 1.2 studs): the hollow
+// far from it holds nothing up there, and each column tried costs an analysis.
+constexpr double kInsideReach = 4;
+std::vector<SupportColumn> within_reach(const std::vector<SupportColumn>& inside,
+                                        const LayoutBrick& weak) {
+  std::vector<SupportColumn> out;
+  for (const SupportColumn& c : inside) {
+    const double dx = std::max({0, weak.x - (c.x + c.size_x), c.x - (weak.x + weak.size_x)});
+    const double dz = std::max({0, weak.z - (c.z + c.size_z), c.z - (weak.z + weak.size_z)});
+    if (std::hypot(dx, dz, 1.2 * (c.top() - weak.y)) <= kInsideReach) out.push_back(c);
+  }
+  return out;
+}
+
 // The column's bricks, one per layer; false when the limits (`--limit`, an inventory) do not allow
 // them all.
 bool build_column(Layout& layout, const SupportColumn& c, const Limits* limits) {
-  for (int y = 0; y < c.layers; ++y) {
-    const LayoutBrick b{
-        .x = c.x, .y = y, .z = c.z, .size_x = c.size_x, .size_z = c.size_z, .color = kSupport};
+  for (int y = c.bottom; y < c.top(); ++y) {
+    const LayoutBrick b{.x = c.x,
+                        .y = y,
+                        .z = c.z,
+                        .size_x = c.size_x,
+                        .size_z = c.size_z,
+                        .color = c.inside ? kIgnore : kSupport};
     if (limits && !limits->allow(layout, b)) return false;
     layout.grow(b);
   }
@@ -220,7 +298,7 @@ SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAss
     Layout layout;
     LayoutAssembly la;
     physics::StabilityResult result;
-    size_t columns = 0, voxels = 0;
+    size_t columns = 0, voxels = 0, inside_voxels = 0;
   };
   std::optional<Gain> gain;
   int moves = 0;
@@ -233,13 +311,15 @@ SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAss
     out.final = std::move(gain->result);
     out.columns.resize(gain->columns);
     out.voxels = gain->voxels;
+    out.inside_voxels = gain->inside_voxels;
     out.stable = out.final.stable(o.min_cm_gf);
   };
-  if (!out.stable) gain = Gain{layout, la, out.final, 0, 0};
+  if (!out.stable) gain = Gain{layout, la, out.final, 0, 0, 0};
   while (!out.stable && int(out.columns.size()) < o.max_columns && moves <= kMoves) {
     const double cm = comparable_cm_gf(out.final);
     const std::vector<int> places = weak_places(out.final, la);
     const std::vector<SupportColumn> possible = possible_columns(layout);
+    const std::vector<SupportColumn> inside = possible_inside_columns(layout);
     bool kept = false;
     const int tries = widened ? o.tries_per_place * kWider : o.tries_per_place;
     for (size_t p = 0; p < places.size() && int(p) < o.weak_places_per_round && !kept; ++p) {
@@ -248,24 +328,33 @@ SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAss
         take_back_moves();
         return out;
       }
-      const std::vector<SupportColumn> tried =
-          columns_to_try(layout, possible, layout.brick(places[p]), tries);
+      const LayoutBrick& weak = layout.brick(places[p]);
+      // The hollow near the weak place first; the ground's columns where none of it helps.
+      std::vector<SupportColumn> tried =
+          columns_to_try(layout, within_reach(inside, weak), weak, tries);
       std::vector<std::optional<Trial>> trials = try_columns(layout, tried, catalog, o, step);
       out.analyses += int(tried.size());
-      const std::optional<size_t> best = best_column(trials, cm, places[p]);
+      std::optional<size_t> best = best_column(trials, cm, places[p]);
+      if (!best) {
+        tried = columns_to_try(layout, possible, weak, tries);
+        trials = try_columns(layout, tried, catalog, o, step);
+        out.analyses += int(tried.size());
+        best = best_column(trials, cm, places[p]);
+      }
       if (!best) continue;
       const double best_cm = comparable_cm_gf(trials[*best]->result);
       Trial& t = *trials[*best];
       layout = std::move(t.layout);
       la = std::move(t.la);
       out.final = std::move(t.result);
-      out.columns.push_back(tried[*best]);
-      out.voxels += size_t(tried[*best].layers * tried[*best].size_x * tried[*best].size_z);
+      const SupportColumn& c = tried[*best];
+      out.columns.push_back(c);
+      (c.inside ? out.inside_voxels : out.voxels) += size_t(c.layers * c.size_x * c.size_z);
       out.stable = out.final.stable(o.min_cm_gf);
       kept = true;
       if (best_cm > cm + kGainGf) {
         moves = 0;
-        gain = Gain{layout, la, out.final, out.columns.size(), out.voxels};
+        gain = Gain{layout, la, out.final, out.columns.size(), out.voxels, out.inside_voxels};
       } else {
         ++moves;
       }
@@ -280,6 +369,11 @@ SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAss
 }
 
 }  // namespace
+
+int SupportResult::inside_columns() const {
+  return int(std::count_if(columns.begin(), columns.end(),
+                           [](const SupportColumn& c) { return c.inside; }));
+}
 
 SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
                            const physics::StabilityResult& current, const SupportOptions& o) {

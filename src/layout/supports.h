@@ -1,14 +1,17 @@
 #pragma once
 // Supports: what the paper leaves for future work (section 8). Where the refined layout still
-// cannot stand as asked (thin legs under a heavy body, an overhang), columns of bricks rise from
-// the ground to what hangs, in a colour of their own (kSupport voxels, built in the support
-// colour). A column is only where the cells under the model are empty down to the ground, so that
-// it can be built first, standing on its own, and the model around and on it.
+// cannot stand as asked (thin legs under a heavy body, an overhang, a roof under a weight), the
+// model's hollow is used first: columns inside it, from its floor to its ceiling, built as the
+// model's inside, which no one sees. Then columns of bricks rise from the ground to what hangs,
+// in a colour of their own (kSupport voxels, built in the support colour). Such a column is only
+// where the cells under the model are empty down to the ground, so that it can be built first,
+// standing on its own, and the model around and on it.
 //
 // Where they go is what the analysis says: each round takes the brick the weakest contacts hold
 // (or one that no forces balance), tries the columns nearest below it and nearest below the centre
 // of the mass at its height and above, and keeps the one that raises C_M most (the next weak
-// place when none does). Rounds go on until the model stands, no column helps, or a limit is
+// place when none does); inside columns near the weak place are tried first, and the ground's
+// only when none of them helps. Rounds go on until the model stands, no column helps, or a limit is
 // reached. The result does not depend on `side_by_side`.
 #include <functional>
 #include <vector>
@@ -21,10 +24,17 @@
 
 namespace lego::layout {
 
+// A column of bricks, one per layer, from the ground (a support) or, inside the model, from the
+// floor of its hollow to its ceiling: the interior used before anything is added outside. Inside
+// columns are built as the model's inside (kIgnore: hidden, merged with the shell by the
+// refinement like any inside voxel), not as supports.
 struct SupportColumn {
   int x = 0, z = 0;  // minimum voxel
   int size_x = 1, size_z = 1;
-  int layers = 0;  // from layer 0 up to the model: layers 0 .. layers-1
+  int bottom = 0;  // its first layer: 0 from the ground
+  int layers = 0;  // layers bottom .. bottom + layers - 1; the model is on the one above
+  bool inside = false;
+  int top() const { return bottom + layers; }  // the layer it holds up
 };
 
 struct SupportOptions {
@@ -46,10 +56,13 @@ struct SupportOptions {
 };
 
 struct SupportResult {
-  std::vector<SupportColumn> columns;  // as added, in the layout
+  std::vector<SupportColumn> columns;  // as added, in the layout: supports and inside columns
   size_t voxels = 0;                   // support voxels added
-  physics::StabilityResult final;      // of the layout with the columns
-  bool stable = false;                 // final C_M / g > min_cm_gf
+  size_t inside_voxels = 0;            // voxels of the hollow filled by inside columns
+  int inside_columns() const;
+  int support_columns() const { return int(columns.size()) - inside_columns(); }
+  physics::StabilityResult final;  // of the layout with the columns
+  bool stable = false;             // final C_M / g > min_cm_gf
   int analyses = 0;
   bool out_of_time = false;
 };

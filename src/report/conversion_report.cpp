@@ -96,6 +96,7 @@ nlohmann::json to_json(const ConversionReport& r) {
           {{"columns", p.support_columns},
            {"bricks", p.support_bricks},
            {"voxels", p.support_voxels}}},
+         {"inside_columns", {{"columns", p.inside_columns}, {"voxels", p.inside_column_voxels}}},
          {"cm_gf", number_or_null(p.cm_gf)},
          {"stable", p.stable},
          {"steps_stand", p.steps_stand},
@@ -107,6 +108,7 @@ nlohmann::json to_json(const ConversionReport& r) {
                          {"changed", r.colour_changes.changed},
                          {"mean_distance", r.colour_changes.mean_distance},
                          {"max_distance", r.colour_changes.max_distance}};
+  j["inside_columns"] = {{"columns", r.inside_columns}, {"voxels", r.inside_column_voxels}};
   j["supports"] = {{"columns", r.support_columns},
                    {"bricks", r.support_bricks},
                    {"color", r.support_bricks > 0 ? nlohmann::json(r.support_color) : nullptr}};

@@ -49,6 +49,8 @@ struct PieceReport {
   size_t voxels_added = 0;  // to join thin parts
   int support_columns = 0;  // layout/supports.h
   size_t support_bricks = 0, support_voxels = 0;
+  int inside_columns = 0;  // columns in its hollow (layout/supports.h), of the model's inside
+  size_t inside_column_voxels = 0;
   double cm_gf = 0;  // -inf (JSON null) when there is no equilibrium
   bool stable = false, steps_stand = false;
   std::string submodel;  // its file in the .mpd; empty for the first piece and in an .ldr
@@ -66,6 +68,9 @@ struct ConversionReport {
   int support_columns = 0;
   size_t support_bricks = 0;
   int support_color = 0;
+  // Columns built in the model's hollow before any support (layout/supports.h), all pieces.
+  int inside_columns = 0;
+  size_t inside_column_voxels = 0;
   // Objects the mesh leaves in the air, stood on support columns (layout/pieces.h); their
   // bricks are in support_bricks, the columns not in support_columns.
   struct Floating {

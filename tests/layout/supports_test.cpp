@@ -1,4 +1,5 @@
-// Supports (layout/supports.h): columns from the ground under what hangs, built first.
+// Supports (layout/supports.h): columns from the ground under what hangs, built first, and
+// columns in the model's hollow before them.
 #include <gtest/gtest.h>
 
 #include "layout/build_order.h"
@@ -125,6 +126,74 @@ TEST(Supports, AModelThatStandsGetsNone) {
   EXPECT_TRUE(s.columns.empty());
   EXPECT_EQ(s.analyses, 0);
   EXPECT_EQ(l.brick_ids(), ids);
+}
+
+// A closed box, walls and floor one voxel thick, its roof two (one layer of bricks joins nothing),
+// with a weight on the middle of its roof:
+// nothing outside can hold the roof up (the box stands on the ground everywhere), a column in its
+// hollow does. It is built as the model's inside, from the floor to the roof, and the box's
+// surface is as it was.
+TEST(Supports, TheHollowHoldsUpARoofWhereNoColumnFitsOutside) {
+  constexpr int w = 14, h = 6;
+  Target box(w, h, w);
+  for (int y = 0; y < h; ++y)
+    for (int z = 0; z < w; ++z)
+      for (int x = 0; x < w; ++x)
+        if (y == 0 || y >= h - 2 || x == 0 || z == 0 || x == w - 1 || z == w - 1)
+          box.set(x, y, z, 4);
+  Layout l = initialized(box);
+  const BrickCatalog& catalog = BrickCatalog::standard();
+  SupportOptions o;
+  o.loads.at_voxels.push_back({w / 2, h - 1, w / 2, 2000});
+  const auto before = physics::analyze_stability(to_assembly(l, catalog, 72, o.loads).assembly);
+  ASSERT_FALSE(before.stable()) << "the roof must not hold 2 kg alone: C_M "
+                                << comparable_cm_gf(before);
+  const SupportResult s = add_supports(l, catalog, before, o);
+  ASSERT_TRUE(s.stable) << comparable_cm_gf(s.final);
+  ASSERT_FALSE(s.columns.empty());
+  EXPECT_EQ(s.inside_columns(), int(s.columns.size()));
+  EXPECT_EQ(s.support_columns(), 0);
+  EXPECT_EQ(s.voxels, 0u);
+  const Target& t = l.target();
+  size_t filled = 0;
+  for (int y = 0; y < h; ++y)
+    for (int z = 0; z < w; ++z)
+      for (int x = 0; x < w; ++x) {
+        if (box.at(x, y, z) != kEmpty) {
+          EXPECT_EQ(t.at(x, y, z), box.at(x, y, z));
+          continue;
+        }
+        EXPECT_NE(t.at(x, y, z), kSupport);
+        if (t.at(x, y, z) == kEmpty) continue;
+        ++filled;
+        EXPECT_EQ(t.at(x, y, z), kIgnore) << x << "," << y << "," << z;
+      }
+  EXPECT_EQ(filled, s.inside_voxels);
+  for (const SupportColumn& c : s.columns) {
+    EXPECT_EQ(c.bottom, 1);     // on the floor,
+    EXPECT_EQ(c.top(), h - 2);  // under the roof
+  }
+  // Judged again from scratch, the layout stands with the weight.
+  EXPECT_TRUE(physics::analyze_stability(to_assembly(l, catalog, 72, o.loads).assembly).stable());
+}
+
+// A box open at the top has no hollow: its inside is the outside, and a column there would be
+// a support (none fits: the box stands on the ground).
+TEST(Supports, AnOpenBoxHasNoHollowToFill) {
+  constexpr int w = 10, h = 4;
+  Target cup(w, h, w);
+  for (int y = 0; y < h; ++y)
+    for (int z = 0; z < w; ++z)
+      for (int x = 0; x < w; ++x)
+        if (y == 0 || x == 0 || z == 0 || x == w - 1 || z == w - 1) cup.set(x, y, z, 4);
+  Layout l = initialized(cup);
+  const BrickCatalog& catalog = BrickCatalog::standard();
+  SupportOptions o;
+  o.min_cm_gf = 71;  // more than the cup has: columns are looked for
+  const auto r = physics::analyze_stability(to_assembly(l, catalog, 72).assembly);
+  const SupportResult s = add_supports(l, catalog, r, o);
+  EXPECT_TRUE(s.columns.empty());
+  EXPECT_EQ(l.target().color, cup.color);
 }
 
 // A column under nothing that fits: a slab hanging from a post with its underside on the ground
