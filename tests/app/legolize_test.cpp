@@ -345,6 +345,24 @@ fs::path mushroom() {
                                     {0, 4 * 9.6, 0, 96, 7 * 9.6, 96}});  // the cap, 3 bricks thick
 }
 
+// A hollow box with a kilogram on the middle of its roof: no support fits under it (the box
+// stands on the ground everywhere); a column in its hollow holds the roof up, hidden, in the
+// inside colour, and the summary and report say so.
+TEST(Legolize, AWeightOnAHollowRoofStandsOnAColumnInside) {
+  const auto obj = boxes_obj("hollow-box.obj", {{0, 0, 0, 16 * 8, 6 * 9.6, 16 * 8}});
+  auto out = scratch("hollow-box.ldr"), report = scratch("hollow-box.json");
+  auto run =
+      run_tool("legolize", {obj.string(), "--scale", "1", "--shell", "1", "--load", "8,5,8:1000",
+                            "-o", out.string(), "--report", report.string(), "--quiet"});
+  EXPECT_EQ(run.exit_code, 0) << run.err << run.out;
+  const auto r = read_json(report);
+  EXPECT_TRUE(r["stable"].get<bool>());
+  EXPECT_LT(r["cm_gf_initial"].get<double>(), 0);
+  EXPECT_GE(r["inside_columns"]["columns"].get<int>(), 1) << r["inside_columns"];
+  EXPECT_EQ(r["supports"]["columns"].get<int>(), 0);
+  EXPECT_NE(run.out.find("inside: "), std::string::npos) << run.out;
+}
+
 // An arm reaching out of the front of a block, at its left, with a weight on its tip: the weakest
 // contact is the arm's, named as the booklet's pictures show it (the mesh's front, +z, is the
 // front; its -x the left), with the voxels --load takes.
