@@ -315,6 +315,7 @@ SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAss
     out.stable = out.final.stable(o.min_cm_gf);
   };
   if (!out.stable) gain = Gain{layout, la, out.final, 0, 0, 0};
+  std::vector<int> hollow_tried;  // weak places (layout ids) whose hollow columns were tried
   while (!out.stable && int(out.columns.size()) < o.max_columns && moves <= kMoves) {
     const double cm = comparable_cm_gf(out.final);
     const std::vector<int> places = weak_places(out.final, la);
@@ -329,9 +330,13 @@ SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAss
         return out;
       }
       const LayoutBrick& weak = layout.brick(places[p]);
-      // The hollow near the weak place first; the ground's columns where none of it helps.
-      std::vector<SupportColumn> tried =
-          columns_to_try(layout, within_reach(inside, weak), weak, tries);
+      // The hollow near the weak place first (once per place: columns added elsewhere seldom
+      // make one there help, and each costs an analysis); the ground's where none of it helps.
+      std::vector<SupportColumn> tried;
+      if (std::find(hollow_tried.begin(), hollow_tried.end(), places[p]) == hollow_tried.end()) {
+        tried = columns_to_try(layout, within_reach(inside, weak), weak, tries);
+        hollow_tried.push_back(places[p]);
+      }
       std::vector<std::optional<Trial>> trials = try_columns(layout, tried, catalog, o, step);
       out.analyses += int(tried.size());
       std::optional<size_t> best = best_column(trials, cm, places[p]);
