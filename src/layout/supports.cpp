@@ -332,8 +332,10 @@ SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAss
       const LayoutBrick& weak = layout.brick(places[p]);
       // The hollow near the weak place first (once per place: columns added elsewhere seldom
       // make one there help, and each costs an analysis); the ground's where none of it helps.
+      // Not under a build step: a column inside is built with its layers, not before the step.
       std::vector<SupportColumn> tried;
-      if (std::find(hollow_tried.begin(), hollow_tried.end(), places[p]) == hollow_tried.end()) {
+      if (step.placed.empty() &&
+          std::find(hollow_tried.begin(), hollow_tried.end(), places[p]) == hollow_tried.end()) {
         tried = columns_to_try(layout, within_reach(inside, weak), weak, tries);
         hollow_tried.push_back(places[p]);
       }

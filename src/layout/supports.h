@@ -78,7 +78,8 @@ struct PlacedBricks {
   std::vector<char> placed;
 };
 // add_supports for what stands after a build step: the columns fit the finished model, and are
-// judged on the placed bricks and the supports, without loads (analysed here first).
+// judged on the placed bricks and the supports, without loads (analysed here first). Columns from
+// the ground only: one inside is built with the model's layers, after the step perhaps.
 SupportResult add_supports(Layout& layout, const BrickCatalog& catalog,
                            const SupportOptions& options, const PlacedBricks& step);
 
