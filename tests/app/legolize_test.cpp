@@ -809,6 +809,9 @@ TEST(Legolize, TheBookletShowsWhatFallsInEachStepThatFalls) {
     EXPECT_EQ(fs::exists(book / picture.substr(5, 13)), !stands) << step;
   }
   EXPECT_GT(falling, 0);
+  // Its words name places by layer and side: the booklet says which side is the front.
+  EXPECT_NE(html.find("the front is the face on the pictures' left"), std::string::npos)
+      << html.substr(0, 2000);
 }
 
 // Numbers are finite (and positive where they scale or limit), with the reason in words; the
