@@ -93,6 +93,7 @@ void write_instructions(const report::Audit& audit, const fs::path& dir,
         if (s.status == physics::StabilityStatus::Solved) bs.cm_gf = s.cm_gf;
         bs.stands = s.stable;
         bs.certified = s.certified;
+        bs.floats = s.floating > 0;
         bs.sub_assembly_judged = s.apart || s.built_aside;
         bs.why = s.why;
         if (s.built_aside)

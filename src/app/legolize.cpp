@@ -651,6 +651,7 @@ void write_outputs(Run& run, const std::vector<const Assembly*>& assemblies,
       if (std::isfinite(st.cm_gf)) bs.cm_gf = st.cm_gf;
       bs.stands = st.stands;
       bs.certified = st.certified;
+      bs.floats = st.floating > 0;
       bs.why = st.why;
       // The parts it names, found in the file written by where they are.
       for (size_t i = 0; i < written.parts.size(); ++i)
@@ -821,6 +822,7 @@ void add_steps(const PieceResult& r, report::ConversionReport& rep) {
                          bs.why,
                          bs.certified,
                          int(st) < r.order.supports_steps,
+                         bs.floating,
                          {}});
     const Assembly& placed = r.la.assembly;
     for (int b : bs.falling)

@@ -22,6 +22,7 @@ struct StepReport {
   std::string why;         // when it does not stand
   bool certified = false;  // cm_gf is a certified lower bound (layout::BuildStep::certified)
   bool supports = false;   // the step builds the supports (layout/supports.h)
+  int floating = 0;        // bricks placed so far that reach no ground
   // When it does not stand: where the bricks it names are placed (LDraw, LDU), for the booklet's
   // picture of what falls.
   std::vector<std::array<double, 3>> falling_at;

@@ -467,12 +467,17 @@ td.count {{ font-weight: bold; text-align: right; }}
     out += parts_table(s.parts, b.colors);
     if (!s.note.empty()) out += fmt::format("<p class=\"note\">{}</p>\n", html_escape(s.note));
     if (s.stands && (!s.aside || s.sub_assembly_judged)) {
-      out += fmt::format("<p class=\"cm\">{}: C_M {} {} ({}).</p>\n",
-                         s.aside                 ? "The sub-assembly so far, on the table"
-                         : s.sub_assembly_judged ? "The model so far, on the table"
-                                                 : "The model so far",
-                         s.certified ? "&ge;" : "=", cm_text(s.cm_gf),
-                         *s.stands ? "it stands" : "it does not stand");
+      const char* judged = s.aside                 ? "The sub-assembly so far, on the table"
+                           : s.sub_assembly_judged ? "The model so far, on the table"
+                                                   : "The model so far";
+      // What floats has no C_M: the number would be that of the rest, which stands.
+      out += s.floats ? fmt::format(
+                            "<p class=\"cm\">{}: it does not stand, part of it reaches "
+                            "no ground.</p>\n",
+                            judged)
+                      : fmt::format("<p class=\"cm\">{}: C_M {} {} ({}).</p>\n", judged,
+                                    s.certified ? "&ge;" : "=", cm_text(s.cm_gf),
+                                    *s.stands ? "it stands" : "it does not stand");
       if (!*s.stands && !s.why.empty())
         out += fmt::format("<p class=\"falls\">Hold it: {}</p>\n", html_escape(s.why));
       if (auto it = pictures.falls.find(s.number); it != pictures.falls.end())

@@ -24,6 +24,7 @@ struct BookletStep {
   std::optional<double> cm_gf;  // no value also when the step has no number (no equilibrium)
   std::optional<bool> stands;
   bool certified = false;  // cm_gf is a certified lower bound, not the exact C_M
+  bool floats = false;     // some of it reaches no ground: cm_gf is only that of what stands
   std::string why;         // when it does not stand
   std::string note;        // a word for the builder on this step (legolize: the supports)
   bool aside = false;      // it builds a sub-assembly apart (ldraw::Step::aside), not the model

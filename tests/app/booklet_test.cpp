@@ -418,6 +418,10 @@ TEST_F(Booklet, AStepThatFallsShowsItsPartInRed) {
   EXPECT_NE(html.find("src=\"falls-003.png\""), std::string::npos) << run.err;
   EXPECT_EQ(html.find("src=\"falls-001.png\""), std::string::npos);
   EXPECT_EQ(html.find("src=\"falls-002.png\""), std::string::npos);
+  // A step where a part floats has no C_M of its own (the number would be the rest's).
+  EXPECT_NE(html.find("The model so far: it does not stand, part of it reaches no ground."),
+            std::string::npos);
+  EXPECT_EQ(html.find("(it does not stand)"), std::string::npos);
   auto reds = [](const fs::path& png) {
     mesh::Texture image;
     std::string why;
