@@ -637,8 +637,7 @@ void audit_steps(Audit& audit, const AuditOptions& given) {
       break;
     }
     StepAudit& s = analysed[size_t(step - 1)];
-    for (const ldraw::Step& st : audit.model.steps)
-      if (st.number == step) s.aside = st.aside;
+    if (step <= int(audit.model.steps.size())) s.aside = audit.model.steps[size_t(step - 1)].aside;
     if (s.bricks == 0 && s.status == physics::StabilityStatus::Empty && s.stable) continue;
     if (!s.stable && !audit.first_failing_step) audit.first_failing_step = step;
     audit.steps.push_back(s);
