@@ -126,6 +126,7 @@ fs::path piece_file(const fs::path& path, int piece) {
 struct PieceResult;
 // A brick of a piece as a builder finds it on the model (layout/where_on_model.h), in words.
 std::string describe_brick(const PieceResult& piece, int brick);
+// Without its step: while the order is planned, the piece's order is not yet that of its bricks.
 report::NamedBrick named_brick(const PieceResult& piece, int brick);
 
 // Rounds of supports for build steps that fall, each followed by a new build order.
@@ -322,6 +323,7 @@ std::string bottleneck_words(const PieceResult& out, std::vector<report::NamedBr
   auto placed = [&](int brick) {
     if (brick < 0) return describe_brick(out, brick);
     named.push_back(named_brick(out, brick));
+    named.back().step = out.order.step_of[size_t(brick)];
     return fmt::format("{} (step {})", named.back().words(), named.back().step);
   };
   if (!f.weakest.empty()) {
@@ -386,7 +388,6 @@ report::NamedBrick named_brick(const PieceResult& p, int brick) {
   const layout::LayoutBrick& lb = p.lay->brick(p.la.layout_id[size_t(brick)]);
   return {.part = b.type->part,
           .name = readable_part_name(b.type->name),
-          .step = p.order.step_of.empty() ? 0 : p.order.step_of[size_t(brick)],
           .where = layout::where_on_model(p.la.assembly, brick),
           .voxel = {lb.x, lb.y + p.lift, lb.z}};
 }
