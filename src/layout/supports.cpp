@@ -1,7 +1,6 @@
 #include "layout/supports.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -11,9 +10,14 @@
 #include "core/stopwatch.h"
 #include "layout/refine.h"
 #include "physics/interior_point.h"
+#include "voxel/visibility.h"
 
 namespace lego::layout {
 namespace {
+
+// A layer's height in studs (a brick is 24 LDU tall, a stud 20 LDU wide): how the columns' distance
+// to a weak place counts layers.
+constexpr double kLayerInStuds = double(kPlatesPerBrick * kLduPerPlate) / kLduPerStud;
 
 // Per column (x, z) of the grid: the lowest layer with a voxel (the model's or a support's), or
 // -1 when there is none.
@@ -53,33 +57,13 @@ std::vector<SupportColumn> possible_columns(const Layout& layout) {
   return out;
 }
 
-// The model's hollow: per cell, whether it is empty and enclosed by the model (no path of empty
-// cells, face to face, leads out of the grid).
+// The model's hollow: per cell, whether it is empty and enclosed by the model (not open to the
+// outside through empty cells, voxel/visibility.h; Target's cells are indexed as its grid's).
 std::vector<char> hollow_cells(const Target& t) {
-  std::vector<char> outside(t.color.size(), 0);
-  std::vector<std::array<int, 3>> stack;
-  auto reach = [&](int x, int y, int z) {
-    if (!t.contains(x, y, z) || t.at(x, y, z) != kEmpty || outside[t.index(x, y, z)]) return;
-    outside[t.index(x, y, z)] = 1;
-    stack.push_back({x, y, z});
-  };
-  for (int y = 0; y < t.height; ++y)
-    for (int z = 0; z < t.depth; ++z)
-      for (int x = 0; x < t.width; ++x)
-        if (x == 0 || y == 0 || z == 0 || x == t.width - 1 || y == t.height - 1 || z == t.depth - 1)
-          reach(x, y, z);
-  while (!stack.empty()) {
-    const auto [x, y, z] = stack.back();
-    stack.pop_back();
-    reach(x - 1, y, z);
-    reach(x + 1, y, z);
-    reach(x, y - 1, z);
-    reach(x, y + 1, z);
-    reach(x, y, z - 1);
-    reach(x, y, z + 1);
-  }
+  const std::vector<uint8_t> open = voxel::open_to_outside(
+      t.width, t.height, t.depth, [&](size_t i) { return t.color[i] != kEmpty; });
   std::vector<char> hollow(t.color.size(), 0);
-  for (size_t i = 0; i < hollow.size(); ++i) hollow[i] = t.color[i] == kEmpty && !outside[i];
+  for (size_t i = 0; i < hollow.size(); ++i) hollow[i] = t.color[i] == kEmpty && !open[i];
   return hollow;
 }
 
@@ -152,7 +136,7 @@ std::vector<SupportColumn> columns_to_try(const Layout& layout,
   std::vector<SupportColumn> out;
   for (const Centre& centre : centres) {
     auto distance = [&](const SupportColumn& c) {
-      const double up = centre.layer ? 1.2 * (c.top() - *centre.layer) : 0.0;
+      const double up = centre.layer ? kLayerInStuds * (c.top() - *centre.layer) : 0.0;
       return std::hypot(c.x + c.size_x / 2.0 - centre.x, c.z + c.size_z / 2.0 - centre.z, up);
     };
     std::vector<SupportColumn> nearest = possible;
@@ -185,7 +169,7 @@ std::vector<SupportColumn> within_reach(const std::vector<SupportColumn>& inside
   for (const SupportColumn& c : inside) {
     const double dx = std::max({0, weak.x - (c.x + c.size_x), c.x - (weak.x + weak.size_x)});
     const double dz = std::max({0, weak.z - (c.z + c.size_z), c.z - (weak.z + weak.size_z)});
-    if (std::hypot(dx, dz, 1.2 * (c.top() - weak.y)) <= kInsideReach) out.push_back(c);
+    if (std::hypot(dx, dz, kLayerInStuds * (c.top() - weak.y)) <= kInsideReach) out.push_back(c);
   }
   return out;
 }
@@ -320,7 +304,10 @@ SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAss
     const double cm = comparable_cm_gf(out.final);
     const std::vector<int> places = weak_places(out.final, la);
     const std::vector<SupportColumn> possible = possible_columns(layout);
-    const std::vector<SupportColumn> inside = possible_inside_columns(layout);
+    // The hollow's columns only for the finished model: under a build step, a column inside is
+    // built with its layers, not before the step.
+    const std::vector<SupportColumn> inside =
+        step.placed.empty() ? possible_inside_columns(layout) : std::vector<SupportColumn>{};
     bool kept = false;
     const int tries = widened ? o.tries_per_place * kWider : o.tries_per_place;
     for (size_t p = 0; p < places.size() && int(p) < o.weak_places_per_round && !kept; ++p) {
@@ -332,10 +319,8 @@ SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAss
       const LayoutBrick& weak = layout.brick(places[p]);
       // The hollow near the weak place first (once per place: columns added elsewhere seldom
       // make one there help, and each costs an analysis); the ground's where none of it helps.
-      // Not under a build step: a column inside is built with its layers, not before the step.
       std::vector<SupportColumn> tried;
-      if (step.placed.empty() &&
-          std::find(hollow_tried.begin(), hollow_tried.end(), places[p]) == hollow_tried.end()) {
+      if (std::find(hollow_tried.begin(), hollow_tried.end(), places[p]) == hollow_tried.end()) {
         tried = columns_to_try(layout, within_reach(inside, weak), weak, tries);
         hollow_tried.push_back(places[p]);
       }

@@ -128,19 +128,25 @@ TEST(Supports, AModelThatStandsGetsNone) {
   EXPECT_EQ(l.brick_ids(), ids);
 }
 
-// A closed box, walls and floor one voxel thick, its roof two (one layer of bricks joins nothing),
-// with a weight on the middle of its roof:
-// nothing outside can hold the roof up (the box stands on the ground everywhere), a column in its
-// hollow does. It is built as the model's inside, from the floor to the roof, and the box's
-// surface is as it was.
-TEST(Supports, TheHollowHoldsUpARoofWhereNoColumnFitsOutside) {
-  constexpr int w = 14, h = 6;
+// A box w x h x w on the ground, its floor and walls one voxel thick, its roof `roof` layers
+// (0: open at the top).
+Target box_of_walls(int w, int h, int roof) {
   Target box(w, h, w);
   for (int y = 0; y < h; ++y)
     for (int z = 0; z < w; ++z)
       for (int x = 0; x < w; ++x)
-        if (y == 0 || y >= h - 2 || x == 0 || z == 0 || x == w - 1 || z == w - 1)
+        if (y == 0 || y >= h - roof || x == 0 || z == 0 || x == w - 1 || z == w - 1)
           box.set(x, y, z, 4);
+  return box;
+}
+
+// A closed box, its roof two layers thick (one layer of bricks joins nothing), with a weight on
+// the middle of its roof: nothing outside can hold the roof up (the box stands on the ground
+// everywhere), a column in its hollow does. It is built as the model's inside, from the floor to
+// the roof, and the box's surface is as it was.
+TEST(Supports, TheHollowHoldsUpARoofWhereNoColumnFitsOutside) {
+  constexpr int w = 14, h = 6;
+  const Target box = box_of_walls(w, h, 2);
   Layout l = initialized(box);
   const BrickCatalog& catalog = BrickCatalog::standard();
   SupportOptions o;
@@ -180,12 +186,7 @@ TEST(Supports, TheHollowHoldsUpARoofWhereNoColumnFitsOutside) {
 // A box open at the top has no hollow: its inside is the outside, and a column there would be
 // a support (none fits: the box stands on the ground).
 TEST(Supports, AnOpenBoxHasNoHollowToFill) {
-  constexpr int w = 10, h = 4;
-  Target cup(w, h, w);
-  for (int y = 0; y < h; ++y)
-    for (int z = 0; z < w; ++z)
-      for (int x = 0; x < w; ++x)
-        if (y == 0 || x == 0 || z == 0 || x == w - 1 || z == w - 1) cup.set(x, y, z, 4);
+  const Target cup = box_of_walls(10, 4, 0);
   Layout l = initialized(cup);
   const BrickCatalog& catalog = BrickCatalog::standard();
   SupportOptions o;
