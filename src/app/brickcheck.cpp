@@ -424,12 +424,6 @@ int check_files(const Arguments& a, report::AuditOptions options) {
                     a.heatmap, a.instructions, a.ldraw_dir, a.main_model};
   parts::PartLibrary library(options.read.library_dirs, BrickCatalog::standard());
   auto check = [&](size_t i) { return check_file(a.files[i], a.files.size(), settings, library); };
-  // One BLAS thread, whatever -j: the interior point method's last bits, and with them the order
-  // of equally weak contacts, then do not depend on -j (with two BLAS threads for -j 1 the
-  // corpus's chapel and fighter jet listed theirs in another order than under -j 2), and no BLAS
-  // thread spins for a core another program holds (the corpus one after another took 85-133 s
-  // with two beside a build using both cores, 45-49 s with one; docs/scale.md).
-  const physics::OneBlasThreadEach blas_threads(true);
   run_in_order<FileReport>(a.files.size(), jobs_used, check, [&](size_t, FileReport&& r) {
     const std::lock_guard lock(reported.mutex);
     if (rank(r.code) > rank(reported.worst)) reported.worst = r.code;

@@ -425,7 +425,6 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
   // height 40, steps one at a time, the LP with two BLAS threads, took 106 s; two at a time,
   // the second's certificate sought again from the first's forces, 127 s.
   const bool side_by_side = options.side_by_side && !options.certify;
-  const physics::OneBlasThreadEach blas_threads(side_by_side);
   std::optional<StepAnalysis> ahead;
   struct Attempt {
     StepAnalysis analysis;

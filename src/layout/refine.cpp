@@ -189,7 +189,6 @@ RefineResult refine_layout(Layout& layout, const BrickCatalog& catalog, const Me
   };
   const int per_round = std::max(1, options.candidates_per_round);
   const bool side_by_side = options.side_by_side && per_round > 1;
-  const physics::OneBlasThreadEach blas_threads(side_by_side);
   while (!(cm > options.min_cm_gf) && fails < options.fail_max && !current.critical.empty()) {
     if (seconds_since(start) > options.max_seconds) {
       out.out_of_time = true;

@@ -269,7 +269,6 @@ SupportResult add_columns(Layout& layout, const BrickCatalog& catalog, LayoutAss
                           const physics::StabilityResult& current, const SupportOptions& o,
                           const PlacedBricks& step) {
   const auto start = std::chrono::steady_clock::now();
-  const physics::OneBlasThreadEach blas_threads(o.side_by_side);
   SupportResult out;
   out.final = current;
   out.stable = out.final.stable(o.min_cm_gf);

@@ -1,6 +1,5 @@
 #include "physics/interior_point.h"
 
-#include <dlfcn.h>
 #include <fmt/format.h>
 #include <malloc.h>
 #include <Eigen/Dense>
@@ -501,17 +500,6 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
     attempt(dependent_rows(without_dense(A_used)), false);
   }
   return result;
-}
-
-int set_blas_threads(int threads) {
-  using Get = int (*)();
-  using Set = void (*)(int);
-  auto get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-  auto set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  if (!get || !set) return 0;
-  const int previous = get();
-  set(threads);
-  return previous;
 }
 
 }  // namespace lego::physics

@@ -69,25 +69,4 @@ struct IpmOptions {
 
 IpmResult solve_interior_point(const IpmProblem& problem, const IpmOptions& options = {});
 
-// The threads the BLAS under CHOLMOD may use (OpenBLAS; other BLAS libraries are left alone).
-// Returns the previous count, 0 when it cannot be set. Several analyses running at once should
-// each use one: measured, two refinement candidates analysed side by side with two BLAS threads
-// each were slower than one after the other (the threads spin while they wait).
-int set_blas_threads(int threads);
-
-// set_blas_threads(1) for its lifetime when `side_by_side` (analyses run at once), then back.
-class OneBlasThreadEach {
- public:
-  explicit OneBlasThreadEach(bool side_by_side)
-      : previous_(side_by_side ? set_blas_threads(1) : 0) {}
-  ~OneBlasThreadEach() {
-    if (previous_ > 0) set_blas_threads(previous_);
-  }
-  OneBlasThreadEach(const OneBlasThreadEach&) = delete;
-  OneBlasThreadEach& operator=(const OneBlasThreadEach&) = delete;
-
- private:
-  int previous_;
-};
-
 }  // namespace lego::physics

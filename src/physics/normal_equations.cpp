@@ -43,18 +43,34 @@ constexpr double kNarrowFactor = 100;
 // corpus's 318 analyses the factors' flops are 1% fewer in all than with the rows' orders alone.
 constexpr double kChainLike = 1.5;
 
+// A factorization runs on the thread that asks for it, nowhere else.
+//
 // Debian's CHOLMOD opens an OpenMP team of four (its compiled-in CHOLMOD_OMP_NUM_THREADS) for
 // small loops in every supernode, whatever OMP_NUM_THREADS says. On two cores those teams cost
 // more than their loops: 600,000 futex calls and as much system time as user time in one
-// 2,000-brick solve, 1.5 s against 1.05 s with them serial. The BLAS keeps its own threads for
-// the large supernodes. OpenMP parallel regions nested zero levels deep run on one thread. The
-// setting is each thread's own (libgomp keeps it per thread): set once on every thread that
-// factors, or brickcheck's second worker opened teams of four as before.
-void serialize_openmp_regions() {
+// 2,000-brick solve, 1.5 s against 1.05 s with them serial. OpenMP parallel regions nested zero
+// levels deep run on one thread. The setting is each thread's own (libgomp keeps it per thread):
+// set once on every thread that factors, or brickcheck's second worker opened teams of four.
+//
+// OpenBLAS (the BLAS under CHOLMOD's large supernodes) starts a thread per core, and its
+// threaded kernels round differently from one thread: legolize's build order on the bunny at
+// height 40 made 130 steps with two BLAS threads and 131 with one, so the output depended on the
+// machine's cores and on --jobs (which ran one BLAS thread per analysis); brickcheck's corpus
+// listed equally weak contacts in another order under -j 1 than under -j 2. One BLAS thread, for
+// the whole process (OpenBLAS keeps the count process-wide): the bunny's build order 70.1 s
+// against 72.2 s with two, with 4 s of system time against 29 s (idle threads spin); at 2,000
+// and 8,000 bricks two threads had gained nothing or 7% (docs/stability-lp.md, 2026-11-22).
+void keep_factorizations_on_this_thread() {
+  using Get = int (*)();
+  using Set = void (*)(int);
+  static const auto blas_threads =
+      reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  static const auto set_blas_threads =
+      reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (blas_threads && set_blas_threads && blas_threads() != 1) set_blas_threads(1);
   thread_local bool serialized = false;
   if (serialized) return;
   serialized = true;
-  using Set = void (*)(int);
   if (auto set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"))) set(0);
 }
 
@@ -211,7 +227,7 @@ SpMat renumber_rows(int rows, int columns, const int* start, const int* index, c
 }
 
 std::vector<char> dependent_rows(const SpMat& A) {
-  serialize_openmp_regions();
+  keep_factorizations_on_this_thread();
   Vec scale = Vec::Ones(A.rows());
   SpMat AAt = A * A.transpose();
   for (Eigen::Index r = 0; r < A.rows(); ++r)
@@ -375,7 +391,7 @@ SpMat body_pattern(const SpMat& A, const std::vector<int>& body, int bodies) {
 }  // namespace
 
 RowOrder fill_reducing_order(const SpMat& A, const std::vector<int>& body) {
-  serialize_openmp_regions();
+  keep_factorizations_on_this_thread();
   SymbolicAnalysis rows(lower_normal_pattern(A, EntriesByRow(A)));
   // Minimum degree (AMD) on the rows first: a tenth of METIS's time.
   RowOrder best = rows.order(CHOLMOD_AMD);
@@ -424,7 +440,7 @@ struct NormalFactor::Cholmod {
 
 NormalFactor::NormalFactor(std::vector<int> order)
     : cholmod_(std::make_unique<Cholmod>()), order_(std::move(order)) {
-  serialize_openmp_regions();
+  keep_factorizations_on_this_thread();
   auto& common = cholmod_->llt.cholmod();
   common.print = 0;  // failures are handled by the caller, not printed
   // NormalMatrix forms the matrix in its fill-reducing order already.

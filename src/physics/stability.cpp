@@ -424,14 +424,13 @@ void solve_scaled_by_blocks(const EquilibriumSystem& sys, const ContactGraph& gr
   }
   std::atomic<bool> undecided{false};  // a block the solver could not decide: solve no more
   auto solve = [&](const std::vector<size_t>& which) {
-    // Large blocks two at a time, one BLAS thread each: measured on a town of 30,000 parts, one
-    // BLAS thread alone already solves faster than two (docs/scale.md), and the second core is
-    // then free for the next block. A model of one large structure keeps both BLAS threads.
+    // Large blocks two at a time (the BLAS runs on one thread, normal_equations.cpp): measured
+    // on a town of 30,000 parts, one BLAS thread alone already solves faster than two
+    // (docs/scale.md), and the second core is then free for the next block.
     const auto large = std::count_if(which.begin(), which.end(), [&](size_t k) {
       return blocks[k].system.rows / EquilibriumSystem::kEquations >= kBodiesOfALargeBlock;
     });
     const int jobs = large >= 2 ? std::max(o.block_jobs, 1) : 1;
-    const OneBlasThreadEach blas_threads(jobs > 1);
     run_in_order<StabilityResult>(
         which.size(), jobs,
         [&](size_t i) {

@@ -612,7 +612,6 @@ void audit_steps(Audit& audit, const AuditOptions& given) {
     finished.notify_all();
   };
   {
-    const physics::OneBlasThreadEach blas_threads(last > 1);
     std::thread second(work);
     work();
     second.join();

@@ -1,6 +1,7 @@
 // The interior point method's linear algebra against dense Eigen on small random matrices.
 #include "physics/normal_equations.h"
 
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -152,6 +153,20 @@ TEST(NormalMatrix, FactorizationsOnAnyThreadOpenNoOpenMpTeams) {
   });
   other.join();
   EXPECT_EQ(after, before);
+}
+
+// OpenBLAS starts a thread per core, and its threaded kernels round otherwise than one thread:
+// the answers then depended on the machine's cores. After a factorization the BLAS runs on one
+// thread, whatever it started with (where the BLAS is not OpenBLAS there is nothing to ask).
+TEST(NormalMatrix, TheBlasRunsOnOneThreadWhateverTheMachinesCores) {
+  using Get = int (*)();
+  using Set = void (*)(int);
+  auto get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  auto set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (!get || !set) GTEST_SKIP() << "the BLAS is not OpenBLAS";
+  set(2);  // as on a machine of two cores or more, before any analysis
+  dependent_rows(equations_of(bench::hollow_box_of(300)).A);
+  EXPECT_EQ(get(), 1);
 }
 
 // Solves (A·Θ·Aᵀ + D·Θ_D·Dᵀ)·v = r through NormalFactor, which factors it in a fill-reducing order
