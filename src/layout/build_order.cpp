@@ -26,11 +26,6 @@ namespace {
 // until the body ties them): past this many, the rest are analysed but not repaired.
 constexpr int kStopRepairingAfter = 3;
 
-// A certificate begins from the forces of the step before (the certificate's or the LP's). Once
-// this many tries in a row found none, the step's layer is left to the LP: the groups of the
-// layer not yet placed come in one step.
-constexpr int kCertificateTries = 1;
-
 // The model as it stands after a step: the bricks placed so far, in the assembly's order.
 Assembly partial_assembly(const Assembly& whole, const std::vector<char>& in,
                           std::vector<int>& whole_index) {
@@ -120,10 +115,6 @@ struct Planner {
   std::vector<char> grounded_support;
   // Forces that balance the last step: the next one's certificate begins from them.
   physics::StepForces built;
-  int failed_tries = 0;  // certificates not found since the last step decided
-  // Bricks of the cursor's layer taken in a step that no certificate showed standing: they come
-  // with the next group, and the LP decides the layer's last step.
-  std::vector<int> pending;
   // Per brick: its group of nearby bricks of its layer (nearby_groups.h), numbered layer by
   // layer from the ground up. Planned once for the whole layer, so that each group stays
   // compact whatever is placed before it.
@@ -212,28 +203,29 @@ struct Planner {
         if (!placed[size_t(i)]) fresh.push_back(i);
       return {fresh, false};
     }
-    std::vector<int> rest;
-    std::set_difference(fresh.begin(), fresh.end(), pending.begin(), pending.end(),
-                        std::back_inserter(rest));
     // Of the cursor's layer, one group of nearby bricks at a time; the bricks of other layers
-    // (held back, or hanging from a brick placed last) come along, as with whole layers.
+    // (held back, or hanging from a brick placed last) come along, as with whole layers, unless
+    // the step would then pass max_new: then they come first, in a step of their own.
     const int at = layers[cursor];
     int first = std::numeric_limits<int>::max();
-    for (int b : rest)
-      if (layer[size_t(b)] == at) first = std::min(first, group_of[size_t(b)]);
-    fresh = pending;
-    const bool whole_layer = failed_tries >= kCertificateTries;
-    for (int b : rest)
-      if (whole_layer || layer[size_t(b)] != at || group_of[size_t(b)] == first) fresh.push_back(b);
-    const bool leaves_layer = fresh.size() < pending.size() + rest.size();
-    std::sort(fresh.begin(), fresh.end());
-    return {fresh, leaves_layer};
+    std::vector<int> others;
+    for (int b : fresh)
+      if (layer[size_t(b)] == at)
+        first = std::min(first, group_of[size_t(b)]);
+      else
+        others.push_back(b);
+    std::vector<int> step;
+    for (int b : fresh)
+      if (layer[size_t(b)] != at || group_of[size_t(b)] == first) step.push_back(b);
+    if (max_new > 0 && int(step.size()) > max_new && !others.empty()) {
+      step = nearby_groups(a, others, max_new).front();
+      std::sort(step.begin(), step.end());
+    }
+    return {step, step.size() < fresh.size()};
   }
 
   // `leaves_layer`: as next() planned the step.
   void commit(const std::vector<int>& fresh, bool leaves_layer) {
-    pending.clear();
-    failed_tries = 0;
     for (int i : fresh) {
       placed[size_t(i)] = 1;
       for (int m : snapped[size_t(i)]) reachable[size_t(m)] = 1;
@@ -256,7 +248,6 @@ struct StepAnalysis {
   physics::StepForces forces;  // for the next step to begin from
   BuildStep step;
   bool leaves_layer = false;  // as PlannedStep's
-  bool undecided = false;     // no certificate, and the LP left for a step with more of the layer
 };
 
 StepAnalysis analyse_step(const Planner& p, PlannedStep planned, const BuildOrderOptions& options) {
@@ -274,19 +265,11 @@ StepAnalysis analyse_step(const Planner& p, PlannedStep planned, const BuildOrde
     out.fresh = std::move(fresh);
     return out;
   }
-  // A step that leaves some of its layer for the next is not worth an LP of its own: without a
-  // certificate, its bricks come with the next group.
   physics::StepStability analysed = physics::analyze_step(
       partial, out.whole_index, p.built, options.stability,
-      options.certify ? std::optional<double>(options.min_cm_gf) : std::nullopt,
-      !(options.certify && out.leaves_layer));
+      options.certify ? std::optional<double>(options.min_cm_gf) : std::nullopt);
   out.result = std::move(analysed.result);
   out.forces = std::move(analysed.forces);
-  if (!analysed.decided) {
-    out.undecided = true;
-    out.fresh = std::move(fresh);
-    return out;
-  }
   out.step.analysed = true;
   const auto& r = out.result;
   BuildStep& s = out.step;
@@ -420,8 +403,9 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
   // With the LP for every step, each step is analysed while the next one is, planned as if the
   // first stands (as it nearly always does): two analyses at a time, and the second thrown away
   // when the first needs repair. With certificates, one step at a time: a step's certificate
-  // begins from the forces of the step before, and whether one is found decides the steps (a
-  // group without one comes with the next), which must not depend on --jobs. On the duck at
+  // begins from the forces of the step before, and whether one is found decides whether the LP
+  // is asked, and so the forces the next step begins from, which must not depend on --jobs. On
+  // the duck at
   // height 40, steps one at a time, the LP with two BLAS threads, took 106 s; two at a time,
   // the second's certificate sought again from the first's forces, 127 s.
   const bool side_by_side = options.side_by_side && !options.certify;
@@ -480,12 +464,6 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
         second.join();
         out.analyses += 2;
       }
-    }
-    if (now.undecided) {
-      p.pending = std::move(now.fresh);
-      ++p.failed_tries;
-      ahead.reset();  // planned as if this step stood
-      continue;
     }
     if (now.step.analysed && !now.step.stands && now.step.floating == 0) {
       // The attempt with the largest C_M is kept, with the holding back that led to it.

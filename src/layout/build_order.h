@@ -72,7 +72,9 @@ struct BuildOrder {
 // ground first in steps of their own. Step k takes every brick of layers up to
 // the k-th that a brick already placed (or the ground) holds by its studs: a brick hanging from
 // the layer above comes with the next layer, in the step after the brick that holds it. Of more
-// than max_new_bricks, a group of nearby ones; the layer's others follow in the next steps. Each
+// than max_new_bricks, a group of nearby ones; the layer's others follow in the next steps (bricks
+// of other layers that come along go first, in a step of their own, where with the group they
+// would be more). A group that no certificate shows standing is decided by the LP. Each
 // step is analysed; when one does not stand, its new bricks that make it fall (those no forces
 // balance, else the ends of its weakest contacts) wait for the next layer, and the step is tried
 // again.

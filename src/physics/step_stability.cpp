@@ -35,7 +35,7 @@ StepForces keyed(const std::vector<uint64_t>& keys, const std::vector<double>& f
 
 StepStability analyze_step(const Assembly& partial, const std::vector<int>& whole_index,
                            const StepForces& start, const StabilityOptions& options,
-                           std::optional<double> certify_above_gf, bool solve) {
+                           std::optional<double> certify_above_gf) {
   StepStability out;
   StabilityResult& r = out.result;
   r = analyze_contacts(partial, options);
@@ -58,10 +58,6 @@ StepStability analyze_step(const Assembly& partial, const std::vector<int>& whol
       out.forces = keyed(keys, c.forces);
       return out;
     }
-  }
-  if (!solve) {
-    out.decided = false;
-    return out;
   }
   solve_equilibrium(partial, sys, options, r);
   if (r.status == StabilityStatus::Solved) out.forces = keyed(keys, r.forces);

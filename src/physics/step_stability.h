@@ -18,7 +18,6 @@ using StepForces = std::unordered_map<uint64_t, double>;
 
 struct StepStability {
   StabilityResult result;  // `certified` when a certificate decided it
-  bool decided = true;     // false: no certificate was found, and the LP was not asked for
   // Forces that balance the step, for a later step to begin from: the certificate's or the LP's.
   // A step that adds a few bricks to one the LP solved is certified from the LP's forces in most
   // cases (the bunny at height 40 in steps of 30 bricks: 97 of 140 steps, against 30 from the
@@ -36,9 +35,9 @@ inline constexpr int kWeakestStepSolves = 3;
 
 // The model after a step: `partial`, whose brick i is brick whole_index[i] of the whole model.
 // With `certify_above_gf`, a certificate from `start` that C_M / g exceeds it is the answer;
-// otherwise, and when none is found, the LP's (unless `solve` is false: the step is undecided).
+// otherwise, and when none is found, the LP's.
 StepStability analyze_step(const Assembly& partial, const std::vector<int>& whole_index,
                            const StepForces& start, const StabilityOptions& options,
-                           std::optional<double> certify_above_gf, bool solve = true);
+                           std::optional<double> certify_above_gf);
 
 }  // namespace lego::physics

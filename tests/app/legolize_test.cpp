@@ -427,6 +427,24 @@ TEST(Legolize, WideLayersAreBuiltInSmallStepsOfNearbyBricks) {
   EXPECT_EQ(read_json(report)["steps"].size(), steps_of_layer.size());
 }
 
+// The table sample in steps of at most 4 parts: its top's groups reach out from the legs, and
+// for several no certificate is found; the LP decides such a group alone (it used to come with
+// the rest of its layer, a step of 22 parts), and the bricks of other layers that come along
+// with a group go first where together they would be more than 4.
+TEST(Legolize, EveryStepKeepsToMaxStepPartsWhereTheLpDecidesIt) {
+  auto out = scratch("table-small-steps.ldr"), report = scratch("table-small-steps.json");
+  auto run =
+      run_tool("legolize", {sample("table.obj").string(), "--scale", "1", "--max-step-parts", "4",
+                            "-o", out.string(), "--report", report.string(), "--quiet"});
+  ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
+  const auto r = read_json(report);
+  for (const auto& step : r["steps"]) {
+    EXPECT_LE(step["new_bricks"].get<int>(), 4) << step;
+    EXPECT_TRUE(step["stands"].get<bool>()) << step;
+  }
+  expect_brickcheck_steps_agree(out, r);
+}
+
 // Built layer by layer,
 // the cap's lowest layer hangs outside the stem from the layer above it; the order places those
 // bricks in the step after the bricks that hold them, and every step stands.
