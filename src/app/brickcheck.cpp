@@ -23,7 +23,6 @@
 #include "ldraw/reader.h"
 #include "ldraw/writer.h"
 #include "parts/part_library.h"
-#include "physics/interior_point.h"
 #include "report/audit.h"
 #include "report/instructions.h"
 #include "report/render.h"

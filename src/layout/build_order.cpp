@@ -15,7 +15,6 @@
 #include "core/text.h"
 #include "layout/nearby_groups.h"
 #include "physics/contact_graph.h"
-#include "physics/interior_point.h"
 #include "physics/step_stability.h"
 
 namespace lego::layout {
@@ -405,9 +404,8 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
   // when the first needs repair. With certificates, one step at a time: a step's certificate
   // begins from the forces of the step before, and whether one is found decides whether the LP
   // is asked, and so the forces the next step begins from, which must not depend on --jobs. On
-  // the duck at
-  // height 40, steps one at a time, the LP with two BLAS threads, took 106 s; two at a time,
-  // the second's certificate sought again from the first's forces, 127 s.
+  // the duck at height 40, steps one at a time, the LP with two BLAS threads, took 106 s; two at
+  // a time, the second's certificate sought again from the first's forces, 127 s.
   const bool side_by_side = options.side_by_side && !options.certify;
   std::optional<StepAnalysis> ahead;
   struct Attempt {

@@ -8,7 +8,6 @@
 #include "core/stopwatch.h"
 #include "layout/components.h"
 #include "layout/reconfigure.h"
-#include "physics/interior_point.h"
 #include "physics/local_bounds.h"
 
 namespace lego::layout {

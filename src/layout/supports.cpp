@@ -9,7 +9,6 @@
 
 #include "core/stopwatch.h"
 #include "layout/refine.h"
-#include "physics/interior_point.h"
 #include "voxel/visibility.h"
 
 namespace lego::layout {

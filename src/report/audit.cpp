@@ -20,7 +20,6 @@
 #include "core/text.h"
 #include "ldraw/writer.h"
 #include "physics/force_model.h"
-#include "physics/interior_point.h"
 #include "physics/solved_blocks.h"
 #include "physics/step_stability.h"
 #include "physics/world_shape.h"
