@@ -266,9 +266,11 @@ void check_forces(const EquilibriumSystem& s, double scale, std::vector<double> 
 // and change one order of the bodies, their ranks, the forces so far and what is left
 // unbalanced.
 Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
-                    const std::vector<double>& start) {
+                    const std::vector<double>& start, const Spreading* spreading) {
   Certificate out;
   const int bodies = s.rows / EquilibriumSystem::kEquations;
+  // Bodies the spreading takes the loads of: the sweep passes loads on to them at any rank.
+  auto spread_body = [&](int b) { return spreading && spreading->bodies[size_t(b)]; };
   const std::vector<ColumnBodies> columns = bodies_of_columns(s);
   std::vector<std::vector<int>> body_columns(static_cast<size_t>(bodies));
   for (int j = 0; j < s.columns(); ++j) {
@@ -315,7 +317,8 @@ Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
       if (hops[size_t(w)] == kWindowHops) continue;
       for (int j : body_columns[size_t(w)]) {
         const int other = columns[size_t(j)].other_than(w);
-        if (other != kNone && hops[size_t(other)] < 0 && rank[size_t(other)] < rank[size_t(b)]) {
+        if (other != kNone && hops[size_t(other)] < 0 && !spread_body(other) &&
+            rank[size_t(other)] < rank[size_t(b)]) {
           hops[size_t(other)] = hops[size_t(w)] + 1;
           window.push_back(other);
         }
@@ -327,7 +330,8 @@ Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
         const int other = columns[size_t(j)].other_than(w);
         const bool inside = other != kNone && hops[size_t(other)] >= 0;
         if (inside && other < w) continue;  // listed from the other body
-        if (other == kNone || inside || rank[size_t(other)] > rank[size_t(b)]) local.push_back(j);
+        if (other == kNone || inside || spread_body(other) || rank[size_t(other)] > rank[size_t(b)])
+          local.push_back(j);
       }
     for (int w : window) hops[size_t(w)] = -1;
     ++out.local_lps;
@@ -343,6 +347,7 @@ Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
     for (int j = 0; j < s.columns(); ++j)
       if (x[size_t(j)] != 0) subtract_column(s, j, x[size_t(j)], unbalanced);
     for (int b : order) {
+      if (spread_body(b)) continue;
       if (distance[size_t(b)] == kUnreached) return b;
       const Load load = Eigen::Map<const Load>(&unbalanced[size_t(EquilibriumSystem::row(b, 0))]);
       // Balanced as it started, to well within the check below (the LP's forces to 1e-9 or so).
@@ -362,7 +367,8 @@ Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
         base.clear();
         for (int j : body_columns[size_t(b)]) {
           const int other = columns[size_t(j)].other_than(b);
-          if (other != kNone && rank[size_t(other)] < rank[size_t(b)]) continue;  // passed on
+          if (other != kNone && !spread_body(other) && rank[size_t(other)] < rank[size_t(b)])
+            continue;  // passed on
           const bool down = carrying[size_t(j)] &&
                             (other == kNone || distance[size_t(other)] < distance[size_t(b)]);
           if ((reach == 0 && !down) || (reach == 1 && !carrying[size_t(j)])) continue;
@@ -419,6 +425,10 @@ Certificate certify(const EquilibriumSystem& s, const ContactGraph& graph,
     sort_bodies();
   }
 
+  if (spreading && !spreading->spread(x)) {
+    out.why_not = "the spread of the LP's forces could not be factored";
+    return out;
+  }
   check_forces(s, scale, std::move(x), out);
   return out;
 }

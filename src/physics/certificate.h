@@ -3,6 +3,7 @@
 // body within the limits prove C_M ≥ T − (their largest friction force), since the LP's C_M is
 // the largest such margin over all balancing forces (PHYSICS.md). Build steps need only this
 // (step_stability.h).
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,7 +29,15 @@ struct Certificate {
 // the limits (the LP may still find forces: this is a sufficient test, not an exact one). `start`:
 // forces to begin from, per column (the step before's, or none): the loads they leave unbalanced
 // (the new bricks' weight) are what is passed on.
+//
+// With `spreading`, its bodies (those of a step the LP solved) are not passed on one by one: the
+// sweep passes the other bodies' loads on to them, and its `spread` then moves what they are left
+// with as the LP's optimum would (load_spread.h).
+struct Spreading {
+  std::vector<char> bodies;                                 // per body of the system
+  std::function<bool(std::vector<double>& forces)> spread;  // false: it could not
+};
 Certificate certify(const EquilibriumSystem& system, const ContactGraph& graph,
-                    const std::vector<double>& start = {});
+                    const std::vector<double>& start = {}, const Spreading* spreading = nullptr);
 
 }  // namespace lego::physics

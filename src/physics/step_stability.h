@@ -4,17 +4,24 @@
 // is found. What the report needs of a step is that it stands; the exact C_M is asked of the
 // weakest step alone.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <unordered_map>
 #include <vector>
 
+#include "physics/load_spread.h"
 #include "physics/stability.h"
 
 namespace lego::physics {
 
 // Forces keyed by the bricks of the whole model they act between, so that a later step (a
-// different system, the same bricks and more) can begin from them.
-using StepForces = std::unordered_map<uint64_t, double>;
+// different system, the same bricks and more) can begin from them; and the spread of the latest
+// step the LP solved, which moves loads on its bodies as the LP would (load_spread.h).
+struct StepForces {
+  std::unordered_map<uint64_t, double> by_column;
+  std::shared_ptr<const LoadSpread> spread;
+  bool empty() const { return by_column.empty(); }
+};
 
 struct StepStability {
   StabilityResult result;  // `certified` when a certificate decided it
@@ -25,6 +32,15 @@ struct StepStability {
   // balance each other.
   StepForces forces;
 };
+
+// StabilityResult::stats.solver of a step a certificate decided: body by body (certificate.h),
+// or by the spread of a step the LP solved (load_spread.h).
+inline constexpr const char* kBodyByBodyCertificate = "certificate";
+inline constexpr const char* kSpreadCertificate = "certificate from the LP's spread";
+
+// A step's certificate is taken when its bound is at least this share of the C_M the LP gave
+// the step its spread comes from (of T where there is none): step_stability.cpp says why.
+inline constexpr double kKeptShare = 0.5;
 
 // The weakest step's C_M is reported exactly: while the smallest step C_M is a certificate's
 // bound, that step is solved by the LP, at most this many times. Not until none is: bounds are
