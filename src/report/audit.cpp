@@ -575,6 +575,7 @@ void audit_steps(Audit& audit, const AuditOptions& given) {
   std::mutex mutex;
   std::condition_variable finished;  // a step done, or a worker stopped
   int done_before = 0;               // steps 0 .. done_before - 1 are all done
+  int released = 0;                  // forces_of[0 .. released - 1] are let go
   bool stopped = false;
   // The steps' budget (audit_file's): a step it runs out in is left unchecked.
   const Budget* budget = options.stability.budget;
@@ -603,6 +604,13 @@ void audit_steps(Audit& audit, const AuditOptions& given) {
       if (!forces.empty())
         forces_of[size_t(k)] = std::make_shared<const physics::StepForces>(std::move(forces));
       while (done_before < last && done[size_t(done_before)]) ++done_before;
+      // Every step not done yet begins from the latest forces before done_before - 1 or later:
+      // those before them are let go (with the LP's spread they hold, tens of MB each on a large
+      // sculpture: legolize's bunny at height 40 peaked at 1.27 GB with them kept, 487 MB before
+      // the spreads).
+      int latest = done_before - 2;
+      while (latest >= 0 && !forces_of[size_t(latest)]) --latest;
+      for (; released < latest; ++released) forces_of[size_t(released)].reset();
       finished.notify_all();
     }
     // Out of steps or of time: a worker waiting for this one's step must not wait for more.
