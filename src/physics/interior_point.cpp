@@ -368,27 +368,9 @@ IpmResult solve_interior_point(const IpmProblem& p, const IpmOptions& options) {
       // near the optimum a few directions are nearly singular, the factor is poor only there, and
       // CG resolves a few outlying directions in a few steps (plain refinement stalls on them).
       auto solve_normal = [&](const Vec& r, double relative_target) {
-        auto apply = [&](const Vec& v) { return normal_times(A, theta, v); };
-        Vec v = factor.solve(r);
-        Vec residual = r - apply(v);
-        const double target = relative_target * r.norm();
-        if (residual.norm() <= target) return v;
-        Vec z = factor.solve(residual), d = z;
-        double rz = residual.dot(z);
-        for (int k = 0; k < 50 && residual.norm() > target; ++k) {
-          ++cg_steps;
-          Vec Md = apply(d);
-          const double curvature = d.dot(Md);
-          if (!(curvature > 0)) break;
-          const double alpha = rz / curvature;
-          v += alpha * d;
-          residual -= alpha * Md;
-          z = factor.solve(residual);
-          const double rz_next = residual.dot(z);
-          d = z + (rz_next / rz) * d;
-          rz = rz_next;
-        }
-        return v;
+        return conjugate_gradients(
+            factor, [&](const Vec& v) { return normal_times(A, theta, v); }, r, relative_target,
+            cg_steps);
       };
       // Solves the Newton system for the complementarity targets rl (lower) and ru (upper), to
       // `accuracy` relative to its right-hand side.

@@ -171,25 +171,10 @@ bool LoadSpread::Solved::balance(const EquilibriumSystem& s, const std::vector<i
           if (const int here = row_map[size_t(EquilibriumSystem::row(body_of[b], k))]; here >= 0)
             r[here] = residual[size_t(EquilibriumSystem::row(int(b), k))];
     if (r.lpNorm<Eigen::Infinity>() == 0) break;
-    // Conjugate gradients on the unshifted matrix, preconditioned by the shifted factor, as the
-    // interior point method solves its normal equations (interior_point.cpp): the forces weighted
-    // down in a round leave a few directions the factor is poor in.
-    Vec y = factor->solve(r), left = r - times_normal(y);
-    const double target = 1e-12 * r.norm();
-    Vec z = factor->solve(left), d = z;
-    double rz = left.dot(z);
-    for (int k = 0; k < 50 && left.norm() > target; ++k) {
-      const Vec Md = times_normal(d);
-      const double curvature = d.dot(Md);
-      if (!(curvature > 0)) break;
-      const double alpha = rz / curvature;
-      y += alpha * d;
-      left -= alpha * Md;
-      z = factor->solve(left);
-      const double rz_next = left.dot(z);
-      d = z + (rz_next / rz) * d;
-      rz = rz_next;
-    }
+    // On the unshifted matrix: the forces weighted down in a round leave a few directions the
+    // shifted factor is poor in.
+    long steps = 0;
+    const Vec y = conjugate_gradients(*factor, times_normal, r, 1e-12, steps);
     const Vec dx = theta.cwiseProduct(A.transpose() * y);
     for (size_t j = 0; j < kind.size(); ++j)
       if (column[j] >= 0) x[size_t(column[j])] += dx[Eigen::Index(j)];

@@ -509,6 +509,30 @@ Vec NormalFactor::solve(const Vec& r) const {
   return from_factor_order(v);
 }
 
+Vec conjugate_gradients(const NormalFactor& factor, const std::function<Vec(const Vec&)>& times,
+                        const Vec& r, double relative_target, long& steps) {
+  Vec v = factor.solve(r);
+  Vec residual = r - times(v);
+  const double target = relative_target * r.norm();
+  if (residual.norm() <= target) return v;
+  Vec z = factor.solve(residual), d = z;
+  double rz = residual.dot(z);
+  for (int k = 0; k < 50 && residual.norm() > target; ++k) {
+    ++steps;
+    Vec Md = times(d);
+    const double curvature = d.dot(Md);
+    if (!(curvature > 0)) break;
+    const double alpha = rz / curvature;
+    v += alpha * d;
+    residual -= alpha * Md;
+    z = factor.solve(residual);
+    const double rz_next = residual.dot(z);
+    d = z + (rz_next / rz) * d;
+    rz = rz_next;
+  }
+  return v;
+}
+
 Vec NormalFactor::pivots() const {
   return from_factor_order(cholmod_->llt.pivots());
 }

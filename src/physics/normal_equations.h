@@ -5,6 +5,7 @@
 // physics (it exposes Eigen types); interior_point.h is the interface.
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -92,6 +93,14 @@ class NormalFactor {
   std::vector<RankOne> updates_;
   Eigen::VectorXd diagonal_;  // D̃ after the last update
 };
+
+// Solves M·v = r by conjugate gradients on M (`times` applies it), preconditioned by `factor`,
+// the factor of M or of M shifted: near an optimum M is nearly singular, the factor is poor only
+// in a few directions, and CG resolves them in a few steps (plain refinement stalls on them).
+// Stops at relative_target·|r| or after 50 steps; `steps` counts them.
+Eigen::VectorXd conjugate_gradients(
+    const NormalFactor& factor, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& times,
+    const Eigen::VectorXd& r, double relative_target, long& steps);
 
 // Rows of A that are (numerically) combinations of others, marked 1.
 std::vector<char> dependent_rows(const SparseMatrix& A);
