@@ -16,6 +16,7 @@ struct Certificate {
   double cm = 0;               // C_M is at least this (g·m/s²), when found
   std::vector<double> forces;  // per column of the system, g·m/s², when found
   int local_lps = 0;           // bodies whose forces needed a small LP (the rest: least squares)
+  int mended = 0;              // forces a spread left past a bound, brought back (Spreading)
   std::string why_not;         // when not found
 };
 
@@ -32,12 +33,17 @@ struct Certificate {
 //
 // With `spreading`, its bodies (those of a step the LP solved) are not passed on one by one: the
 // sweep passes the other bodies' loads on to them, and its `spread` then moves what they are left
-// with as the LP's optimum would (load_spread.h).
+// with as the LP's optimum would (load_spread.h); the forces that leaves past a bound are brought
+// back by small LPs near each (not found: too many, or one no LP brings back).
+//
+// With `wanted_cm`, where the bound falls short of it, small LPs near the largest friction lower
+// it, one column at a time, while they can.
 struct Spreading {
   std::vector<char> bodies;                                 // per body of the system
   std::function<bool(std::vector<double>& forces)> spread;  // false: it could not
 };
 Certificate certify(const EquilibriumSystem& system, const ContactGraph& graph,
-                    const std::vector<double>& start = {}, const Spreading* spreading = nullptr);
+                    const std::vector<double>& start = {}, const Spreading* spreading = nullptr,
+                    double wanted_cm = 0);
 
 }  // namespace lego::physics

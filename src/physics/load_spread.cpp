@@ -29,13 +29,13 @@ double barrier(double slack, double toward) {  // relative slack, reduced cost t
   return (toward * slack + kMu) / (slack * slack);
 }
 
-// A force a spread drives past its bound weighs this much less in the next round, for up to
-// this many rounds (each a factorization): on the duck at height 30 (every certificate taken),
-// with none 17 of 47 spreads failed, most on a force pulling by 0.007-0.4 gf, each then an LP;
-// with three, 2 of 47, and the build order took 13.5 s instead of 30 (docs/performance.md,
-// 2026-12-07).
-constexpr double kPastBound = 1e-6;
-constexpr int kRepairs = 3;
+// The conjugate gradients stop at this relative residual: what is left is far inside the
+// certificate's check (1e-6 of the largest force), and 1e-12 took three solves where this takes
+// one or two. A second pass, for what columns whose values differ a little from the solved
+// step's leave (a knob's grip shared with a new brick), only where the first leaves more than
+// this share of the load: on the duck at height 40 it left 1e-11 to 1e-8 of it.
+constexpr double kSpreadAccuracy = 1e-10;
+constexpr double kSecondPass = 1e-9;
 
 }  // namespace
 
@@ -126,22 +126,7 @@ bool LoadSpread::spread(const EquilibriumSystem& s, const std::vector<uint64_t>&
     theta[Eigen::Index(j)] = 1 / inverse;
   }
   const std::lock_guard<std::mutex> lock(factoring_);
-  const std::vector<double> begun = x;
-  for (int round = 0;; ++round) {
-    x = begun;
-    if (!v.balance(s, body_of, column, theta, x)) return false;
-    if (round == kRepairs) return true;
-    int past = 0;
-    for (size_t j = 0; j < n; ++j) {
-      if (column[j] < 0 || v.kind[j] == ForceKind::Support) continue;
-      const double f = x[size_t(column[j])];
-      if (f < 0 || (v.kind[j] == ForceKind::Friction && f >= kMaxFrictionLoad)) {
-        theta[Eigen::Index(j)] *= kPastBound;
-        ++past;
-      }
-    }
-    if (past == 0) return true;
-  }
+  return v.balance(s, body_of, column, theta, x);
 }
 
 bool LoadSpread::Solved::balance(const EquilibriumSystem& s, const std::vector<int>& body_of,
@@ -156,9 +141,8 @@ bool LoadSpread::Solved::balance(const EquilibriumSystem& s, const std::vector<i
   auto times_normal = [&](const Vec& u) -> Vec {
     return A * theta.cwiseProduct(A.transpose() * u);
   };
-  // Twice: the second takes up what columns whose values differ a little from the solved step's
-  // (a knob's grip shared with a new brick) leave.
   constexpr int kRows = EquilibriumSystem::kEquations;
+  double first = 0;
   for (int pass = 0; pass < 2; ++pass) {
     std::vector<double> residual = s.rhs;
     for (int j = 0; j < s.columns(); ++j)
@@ -170,11 +154,11 @@ bool LoadSpread::Solved::balance(const EquilibriumSystem& s, const std::vector<i
         for (int k = 0; k < kRows; ++k)
           if (const int here = row_map[size_t(EquilibriumSystem::row(body_of[b], k))]; here >= 0)
             r[here] = residual[size_t(EquilibriumSystem::row(int(b), k))];
-    if (r.lpNorm<Eigen::Infinity>() == 0) break;
-    // On the unshifted matrix: the forces weighted down in a round leave a few directions the
-    // shifted factor is poor in.
+    const double left = r.lpNorm<Eigen::Infinity>();
+    if (pass == 0) first = left;
+    if (left == 0 || (pass > 0 && left <= kSecondPass * first)) break;
     long steps = 0;
-    const Vec y = conjugate_gradients(*factor, times_normal, r, 1e-12, steps);
+    const Vec y = conjugate_gradients(*factor, times_normal, r, kSpreadAccuracy, steps);
     const Vec dx = theta.cwiseProduct(A.transpose() * y);
     for (size_t j = 0; j < kind.size(); ++j)
       if (column[j] >= 0) x[size_t(column[j])] += dx[Eigen::Index(j)];

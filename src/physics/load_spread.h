@@ -8,8 +8,9 @@
 // the optimum along its face (docs/physics.md, "Build steps"), so the certificates made from them
 // keep the LP's largest friction, where certify() body by body piles friction up near the ground
 // (the duck at height 24: steps after an LP certified at 41-67 gf where the LP gives 59.5-67.3,
-// and body by body at 1.3-9 gf). The response is linear: a few steps on, a force the optimum had
-// held off its bound reaches it, and the certificate fails.
+// and body by body at 1.3-9 gf). The response is linear: a few steps on, forces the optimum had
+// held off their bounds pass them, and certify() brings them back by small LPs near each
+// (certificate.h).
 #include <cstdint>
 #include <memory>
 #include <mutex>

@@ -5,6 +5,7 @@
 #include <string>
 
 #include <fmt/format.h>
+#include <Eigen/Dense>
 
 #include "../../tools/bench/shapes.h"
 #include "physics/builders.h"
@@ -68,6 +69,75 @@ TEST(Certificate, NoneForAModelThatFalls) {
   const Both b = certify_and_solve(test::figure7_bridge(6, 'a'));  // falls at 5 (the paper)
   EXPECT_LT(b.exact.cm_gf(), 0);
   EXPECT_FALSE(b.certificate.found);
+}
+
+// A spread that leaves a force pulling is mended by a small LP: the spread here (a stand-in)
+// moves the body-by-body forces along a direction that balances itself (a knob's push taken
+// back by the other knobs between the same two bricks) until one push pulls by a gram-force.
+TEST(Certificate, ForcesASpreadLeavesPastTheirBoundsAreBroughtBack) {
+  Assembly a;
+  add(a, "3001", 0, 0, 0);
+  add(a, "3001", 2, kBrick, 0);  // half over the one below
+  add(a, "3001", 0, 2 * kBrick, 0);
+  StabilityResult r = analyze_contacts(a, {});
+  const EquilibriumSystem sys = build_equilibrium(a, r, {});
+  solve_equilibrium(a, sys, {}, r);
+  ASSERT_TRUE(r.stable());
+  auto bodies_of = [&](int j) {
+    std::vector<int> out;
+    for (int e = sys.column_start[size_t(j)]; e < sys.column_start[size_t(j) + 1]; ++e)
+      if (out.empty() || out.back() != EquilibriumSystem::body_of_row(sys.row_index[size_t(e)]))
+        out.push_back(EquilibriumSystem::body_of_row(sys.row_index[size_t(e)]));
+    return out;
+  };
+  auto on_body = [&](int j, int body) {
+    Eigen::Matrix<double, 6, 1> v = Eigen::Matrix<double, 6, 1>::Zero();
+    for (int e = sys.column_start[size_t(j)]; e < sys.column_start[size_t(j) + 1]; ++e)
+      if (EquilibriumSystem::body_of_row(sys.row_index[size_t(e)]) == body)
+        v[sys.row_index[size_t(e)] % 6] += sys.value[size_t(e)];
+    return v;
+  };
+  // A push between the two upper bricks, and the direction: +1 on it, the least-squares
+  // combination of the other columns between the same two bricks that acts as it does, negated.
+  std::vector<double> direction(size_t(sys.columns()), 0.0);
+  int push = -1;
+  for (int j = 0; j < sys.columns() && push < 0; ++j) {
+    const std::vector<int> pair = bodies_of(j);
+    if (sys.kind[size_t(j)] != ForceKind::Normal || pair.size() != 2) continue;
+    std::vector<int> others;
+    for (int k = 0; k < sys.columns(); ++k)
+      if (k != j && sys.kind[size_t(k)] != ForceKind::Support && bodies_of(k) == pair)
+        others.push_back(k);
+    Eigen::MatrixXd m(6, Eigen::Index(others.size()));
+    for (size_t k = 0; k < others.size(); ++k) m.col(Eigen::Index(k)) = on_body(others[k], pair[0]);
+    const Eigen::VectorXd c = m.completeOrthogonalDecomposition().solve(on_body(j, pair[0]));
+    if ((m * c - on_body(j, pair[0])).norm() > 1e-9) continue;
+    push = j;
+    direction[size_t(j)] = 1;
+    for (size_t k = 0; k < others.size(); ++k) direction[size_t(others[k])] = -c[Eigen::Index(k)];
+  }
+  ASSERT_GE(push, 0) << "no push whose action the other columns of its two bricks take";
+  Spreading spreading;
+  spreading.bodies.assign(size_t(sys.rows / EquilibriumSystem::kEquations), 0);
+  spreading.spread = [&](std::vector<double>& x) {
+    const double by = x[size_t(push)] + kGravity;  // leaves it pulling by a gram-force
+    for (size_t j = 0; j < x.size(); ++j) x[j] -= by * direction[j];
+    return true;
+  };
+  const Certificate c = certify(sys, r.graph, {}, &spreading);
+  ASSERT_TRUE(c.found) << c.why_not;
+  EXPECT_GE(c.mended, 1);
+  EXPECT_LE(c.cm / kGravity, r.cm_gf() + 1e-6);
+  // Without the mending the same forces would not have passed the check: the push pulls.
+  Spreading unmended = spreading;
+  std::vector<double> left;
+  unmended.spread = [&](std::vector<double>& x) {
+    spreading.spread(x);
+    left = x;
+    return true;
+  };
+  certify(sys, r.graph, {}, &unmended);
+  EXPECT_LT(left[size_t(push)], -0.5 * kGravity);
 }
 
 // Bricks on the knobs of bricks below, overhanging as they come, `layers` high (some fall off:
@@ -165,6 +235,28 @@ TEST(Certificate, TheLpsSpreadCertifiesTheStepsAfterItNearTheirCm) {
   }
   EXPECT_GE(spread, 20);
   EXPECT_GE(near, spread * 9 / 10) << near << " of " << spread << " within 5% of their C_M";
+}
+
+// Asked for a bound, the certificate lowers its largest frictions by small LPs near them: never
+// past the exact C_M, and higher than without on some of the random stacks below.
+TEST(Certificate, AWantedBoundLowersTheLargestFrictions) {
+  int higher = 0, found = 0;
+  for (unsigned seed = 1; seed <= 24; ++seed) {
+    const Assembly a = random_stack(seed, 7);
+    StabilityResult r = analyze_contacts(a, {});
+    const EquilibriumSystem sys = build_equilibrium(a, r, {});
+    const Certificate plain = certify(sys, r.graph);
+    const Certificate lowered = certify(sys, r.graph, {}, nullptr, kMaxFrictionLoad);
+    solve_equilibrium(a, sys, {}, r);
+    if (!plain.found) continue;
+    ++found;
+    ASSERT_TRUE(lowered.found) << "seed " << seed << ": " << lowered.why_not;
+    EXPECT_GE(lowered.cm, plain.cm - 1e-9) << "seed " << seed;
+    EXPECT_LE(lowered.cm / kGravity, r.cm_gf() + 1e-6) << "seed " << seed;
+    higher += lowered.cm > plain.cm * (1 + 1e-3);
+  }
+  EXPECT_GE(found, 12);
+  EXPECT_GE(higher, 3) << "of " << found;
 }
 
 }  // namespace
