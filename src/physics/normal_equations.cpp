@@ -388,9 +388,27 @@ SpMat body_pattern(const SpMat& A, const std::vector<int>& body, int bodies) {
                                  inner.data(), ones.data());
 }
 
-}  // namespace
+// A's pattern (its rows, each column's rows but for empty columns) and the bodies, hashed: the
+// order depends on nothing else.
+uint64_t pattern_key(const SpMat& A, const std::vector<int>& body) {
+  uint64_t h = 1469598103934665603ull;  // FNV-1a over 32-bit words
+  auto mix = [&](uint64_t word) {
+    h ^= word;
+    h *= 1099511628211ull;
+  };
+  mix(uint64_t(A.rows()));
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+    if (A.col(j).nonZeros() == 0) continue;
+    mix(0xffffffffull);  // column break
+    for (SpMat::InnerIterator it(A, j); it; ++it) mix(uint64_t(it.index()));
+  }
+  mix(0xfffffffeull);
+  for (int b : body) mix(uint64_t(b));
+  return h;
+}
 
-RowOrder fill_reducing_order(const SpMat& A, const std::vector<int>& body) {
+// Without the cache below.
+RowOrder best_row_order(const SpMat& A, const std::vector<int>& body) {
   keep_factorizations_on_this_thread();
   SymbolicAnalysis rows(lower_normal_pattern(A, EntriesByRow(A)));
   // Minimum degree (AMD) on the rows first: a tenth of METIS's time.
@@ -432,6 +450,30 @@ RowOrder fill_reducing_order(const SpMat& A, const std::vector<int>& body) {
     std::iota(best.rows.begin(), best.rows.end(), 0);
   }
   return best;
+}
+
+}  // namespace
+
+RowOrder fill_reducing_order(const SpMat& A, const std::vector<int>& body) {
+  // The orders found last on this thread, by pattern: a build step's LP orders its normal matrix
+  // (and the frictionless LP's, which differs by a row or two, in between), and the spread built
+  // from its optimum (load_spread.h) orders the LP's again. A hash that collided would give an
+  // order of the same rows, only a poorer one.
+  struct Found {
+    uint64_t key = 0;
+    RowOrder order;
+  };
+  constexpr size_t kKept = 4;
+  thread_local std::vector<Found> found;  // the latest last
+  const uint64_t key = pattern_key(A, body);
+  for (auto it = found.begin(); it != found.end(); ++it)
+    if (it->key == key && it->order.rows.size() == size_t(A.rows())) {
+      std::rotate(it, it + 1, found.end());
+      return found.back().order;
+    }
+  if (found.size() == kKept) found.erase(found.begin());
+  found.push_back({key, best_row_order(A, body)});
+  return found.back().order;
 }
 
 struct NormalFactor::Cholmod {
