@@ -16,7 +16,7 @@ struct Certificate {
   double cm = 0;               // C_M is at least this (g·m/s²), when found
   std::vector<double> forces;  // per column of the system, g·m/s², when found
   int local_lps = 0;           // bodies whose forces needed a small LP (the rest: least squares)
-  int mended = 0;              // forces a spread left past a bound, brought back (Spreading)
+  int mended = 0;              // forces a spread left past a bound (brought back when found)
   std::string why_not;         // when not found
 };
 
