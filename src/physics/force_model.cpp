@@ -280,6 +280,15 @@ void add_loads(const Assembly& a, const ContactGraph& g, const EquilibriumSystem
 
 }  // namespace
 
+std::vector<double> EquilibriumSystem::unbalanced(const std::vector<double>& forces) const {
+  std::vector<double> left = rhs;
+  for (int j = 0; j < columns(); ++j)
+    if (const double f = forces[size_t(j)]; f != 0)
+      for (int e = column_start[size_t(j)]; e < column_start[size_t(j) + 1]; ++e)
+        left[size_t(row_index[size_t(e)])] -= value[size_t(e)] * f;
+  return left;
+}
+
 EquilibriumSystem build_equilibrium(const Assembly& a, const ContactGraph& g,
                                     const Connectivity& connectivity, const Formulation& model) {
   EquilibriumSystem s;

@@ -47,6 +47,8 @@ struct EquilibriumSystem {
   std::vector<int> brick_of_body;  // per body: its brick (ascending)
 
   int columns() const { return int(kind.size()); }
+  // b − A·forces: what the forces (per column) leave unbalanced, per row.
+  std::vector<double> unbalanced(const std::vector<double>& forces) const;
   int friction_columns = 0;
   // With Formulation::turning_joints_hold: the column of the moment each turning joint holds
   // about its axis (its contact is `contact[column]`).

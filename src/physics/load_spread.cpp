@@ -144,10 +144,7 @@ bool LoadSpread::Solved::balance(const EquilibriumSystem& s, const std::vector<i
   constexpr int kRows = EquilibriumSystem::kEquations;
   double first = 0;
   for (int pass = 0; pass < 2; ++pass) {
-    std::vector<double> residual = s.rhs;
-    for (int j = 0; j < s.columns(); ++j)
-      for (int e = s.column_start[size_t(j)]; e < s.column_start[size_t(j) + 1]; ++e)
-        residual[size_t(s.row_index[size_t(e)])] -= s.value[size_t(e)] * x[size_t(j)];
+    const std::vector<double> residual = s.unbalanced(x);
     Vec r = Vec::Zero(rows);
     for (size_t b = 0; b < body_of.size(); ++b)
       if (body_of[b] >= 0)
