@@ -24,6 +24,13 @@ constexpr double kMu = 1e-8;
 // forces all sit at bounds an empty row of the normal matrix, which no relative shift mends.
 constexpr double kLeastSlack = 1e-12;
 
+// Θ, relative, no smaller than this: with kLeastSlack a force at its bound weighs 1e-16 against
+// the free supports' 1e8 to 1e10, a condition of 1e26, and a load that only such columns could
+// take had the conjugate gradients diverge. With it, on legolize's duck at height 40
+// (docs/performance.md, 2026-12-07), 7 steps went to the LP instead of 10; 1e-6 and 1e-10 measured
+// about as well on the duck and the bunny, neither better on both.
+constexpr double kLeastTheta = 1e-8;
+
 double barrier(double slack, double toward) {  // relative slack, reduced cost toward it
   slack = std::max(slack, kLeastSlack);
   return (toward * slack + kMu) / (slack * slack);
@@ -123,7 +130,7 @@ bool LoadSpread::spread(const EquilibriumSystem& s, const std::vector<uint64_t>&
       inverse = barrier(f, std::max(rc, 0.0)) + barrier(1 - f, std::max(-rc, 0.0));
     else if (v.kind[j] == ForceKind::Normal)
       inverse = barrier(f, std::max(rc, 0.0));
-    theta[Eigen::Index(j)] = 1 / inverse;
+    theta[Eigen::Index(j)] = std::max(1 / inverse, kLeastTheta);
   }
   const std::lock_guard<std::mutex> lock(factoring_);
   return v.balance(s, body_of, column, theta, x);
