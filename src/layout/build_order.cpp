@@ -364,13 +364,18 @@ std::vector<int> culprits_of(const Planner& p, const StepAnalysis& s) {
 
 namespace {
 
-// The report gives the weakest step's C_M exactly (physics::kWeakestStepSolves); the smallest
+// The report gives the weakest step's C_M exactly (physics::solve_weakest_again); the smallest
 // step C_M may remain a bound, and says so.
 void solve_weakest_step_exactly(const Assembly& a, const BuildOrderOptions& options,
                                 BuildOrder& order) {
-  for (int solves = 0; solves < physics::kWeakestStepSolves; ++solves) {
+  for (int solves = 0;; ++solves) {
     const int weakest = weakest_solved_step(order.steps);
     if (weakest < 0 || !order.steps[size_t(weakest)].certified) return;
+    std::vector<physics::StepMargin> margins;
+    for (const BuildStep& s : order.steps)
+      if (s.analysed && s.status == physics::StabilityStatus::Solved)
+        margins.push_back({s.cm_gf, s.certified});
+    if (!physics::solve_weakest_again(margins, solves)) return;
     std::vector<char> in(a.bricks.size(), 0);
     for (size_t i = 0; i < a.bricks.size(); ++i) in[i] = order.step_of[i] <= weakest + 1;
     std::vector<int> whole_index;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 
 #include "core/stopwatch.h"
 #include "physics/certificate.h"
@@ -43,6 +44,18 @@ std::vector<int> body_bricks(const EquilibriumSystem& sys, const std::vector<int
 }
 
 }  // namespace
+
+bool solve_weakest_again(const std::vector<StepMargin>& steps, int solved) {
+  if (solved == 0) return true;
+  if (solved >= kWeakestStepSolves) return false;
+  double exact = std::numeric_limits<double>::infinity();
+  for (const StepMargin& s : steps)
+    if (!s.certified) exact = std::min(exact, s.cm_gf);
+  const auto below = std::count_if(steps.begin(), steps.end(), [&](const StepMargin& s) {
+    return s.certified && s.cm_gf < exact;
+  });
+  return below <= kWeakestStepSolves;
+}
 
 StepStability analyze_step(const Assembly& partial, const std::vector<int>& whole_index,
                            const StepForces& start, const StabilityOptions& options,

@@ -49,6 +49,19 @@ inline constexpr double kKeptShare = 0.5;
 // a smallest step C_M of at least 7.7 gf, the first of three loose bounds.
 inline constexpr int kWeakestStepSolves = 3;
 
+// A step's C_M as the report has it: exact, or a certificate's bound.
+struct StepMargin {
+  double cm_gf = 0;
+  bool certified = false;
+};
+// Whether the LP should solve the weakest step once more, `solved` times already: the first
+// time always (the smallest bound may be the weakest step's); after, while solves are left, only
+// where a few bounds (kWeakestStepSolves or fewer) lie below the smallest exact C_M, which the
+// solves left may settle (the crate sample's three did). Where dozens do, no few solves can: the
+// smallest step C_M stays a bound however they are spent (legolize's duck at height 40: dozens
+// of bounds at 35-40 gf, every step the LP solved at 67-71 gf).
+bool solve_weakest_again(const std::vector<StepMargin>& steps, int solved);
+
 // The model after a step: `partial`, whose brick i is brick whole_index[i] of the whole model.
 // With `certify_above_gf`, a certificate from `start` that C_M / g exceeds it is the answer;
 // otherwise, and when none is found, the LP's.

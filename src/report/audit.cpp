@@ -623,14 +623,18 @@ void audit_steps(Audit& audit, const AuditOptions& given) {
     work();
     second.join();
   }
-  // The weakest step's C_M exactly (physics::kWeakestStepSolves).
-  for (int solves = 0; solves < physics::kWeakestStepSolves && in_time(); ++solves) {
+  // The weakest step's C_M exactly (physics::solve_weakest_again).
+  for (int solves = 0; in_time(); ++solves) {
     int weakest = -1;
+    std::vector<physics::StepMargin> margins;
     for (int k = 0; k < last; ++k)
-      if (done[size_t(k)] && analysed[size_t(k)].stable && analysed[size_t(k)].bricks > 0 &&
-          (weakest < 0 || analysed[size_t(k)].cm_gf < analysed[size_t(weakest)].cm_gf))
-        weakest = k;
-    if (weakest < 0 || !analysed[size_t(weakest)].certified) break;
+      if (done[size_t(k)] && analysed[size_t(k)].stable && analysed[size_t(k)].bricks > 0) {
+        margins.push_back({analysed[size_t(k)].cm_gf, analysed[size_t(k)].certified});
+        if (weakest < 0 || analysed[size_t(k)].cm_gf < analysed[size_t(weakest)].cm_gf) weakest = k;
+      }
+    if (weakest < 0 || !analysed[size_t(weakest)].certified ||
+        !physics::solve_weakest_again(margins, solves))
+      break;
     try {
       analysed[size_t(weakest)] = audit_step(audit, weakest + 1, options, nullptr, nullptr);
     } catch (const OutOfTime&) {

@@ -237,6 +237,28 @@ TEST(Certificate, TheLpsSpreadCertifiesTheStepsAfterItNearTheirCm) {
   EXPECT_GE(near, spread * 9 / 10) << near << " of " << spread << " within 5% of their C_M";
 }
 
+// The weakest step is solved once whatever the bounds; again only while a few bounds lie below
+// the smallest exact C_M, where the few solves left may settle which step is weakest.
+TEST(StepStability, TheWeakestStepIsSolvedAgainOnlyWhereAFewBoundsAreBelowTheExact) {
+  auto bounds = [](std::vector<double> certified, std::vector<double> exact) {
+    std::vector<StepMargin> out;
+    for (double cm : certified) out.push_back({cm, true});
+    for (double cm : exact) out.push_back({cm, false});
+    return out;
+  };
+  static_assert(kWeakestStepSolves == 3, "the cases below count three solves");
+  const auto many = bounds({36, 37, 38, 39, 40}, {});
+  EXPECT_TRUE(solve_weakest_again(many, 0));
+  // One solve found 70 gf: four bounds below it, more than the solves could ever settle.
+  EXPECT_FALSE(solve_weakest_again(bounds({37, 38, 39, 40, 71}, {70}), 1));
+  // Three below it: the two solves left may find the weakest among them.
+  EXPECT_TRUE(solve_weakest_again(bounds({37, 38, 39, 71, 72}, {70}), 1));
+  EXPECT_TRUE(solve_weakest_again(bounds({37, 38, 71, 72}, {70, 71}), 2));
+  // Bounds above the smallest exact C_M do not count; the solves are spent at three.
+  EXPECT_TRUE(solve_weakest_again(bounds({65, 66, 67, 68}, {60}), 1));
+  EXPECT_FALSE(solve_weakest_again(bounds({65}, {60, 61, 62}), 3));
+}
+
 // Asked for a bound, the certificate lowers its largest frictions by small LPs near them: never
 // past the exact C_M, and higher than without on some of the random stacks below.
 TEST(Certificate, AWantedBoundLowersTheLargestFrictions) {
