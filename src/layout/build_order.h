@@ -25,7 +25,8 @@ struct BuildOrderOptions {
   // certificate is found, and for the weakest step's exact C_M. False: the LP for every step.
   bool certify = true;
   // Without certificates, two steps analysed at a time (the next planned as if this one
-  // stands); false: one by one. With them, always one by one (plan_build_order says why).
+  // stands); with them, one by one (plan_build_order says why), the next step's model and
+  // system made while this one is decided. False: one thing at a time. The order is the same.
   bool side_by_side = true;
   std::function<void(int step, int steps_so_far, double seconds)> progress;  // may be empty
   // How a step that falls names a brick of the assembly (legolize: its part and where it is on

@@ -57,16 +57,34 @@ bool solve_weakest_again(const std::vector<StepMargin>& steps, int solved) {
   return below <= kWeakestStepSolves;
 }
 
+StepSystem prepare_step(const Assembly& partial, const std::vector<int>& whole_index,
+                        const StabilityOptions& options) {
+  StepSystem out;
+  out.contacts = analyze_contacts(partial, options);
+  if (partial.bricks.empty()) return out;
+  out.system = build_equilibrium(partial, out.contacts, options);
+  if (out.system.rows == 0) return out;
+  out.column_keys = column_keys(out.system, out.contacts.graph, whole_index);
+  out.body_bricks = body_bricks(out.system, whole_index);
+  return out;
+}
+
 StepStability analyze_step(const Assembly& partial, const std::vector<int>& whole_index,
                            const StepForces& start, const StabilityOptions& options,
                            std::optional<double> certify_above_gf) {
+  return analyze_step(partial, prepare_step(partial, whole_index, options), start, options,
+                      certify_above_gf);
+}
+
+StepStability analyze_step(const Assembly& partial, StepSystem prepared, const StepForces& start,
+                           const StabilityOptions& options,
+                           std::optional<double> certify_above_gf) {
   StepStability out;
   StabilityResult& r = out.result;
-  r = analyze_contacts(partial, options);
-  if (partial.bricks.empty()) return out;
-  const EquilibriumSystem sys = build_equilibrium(partial, r, options);
-  if (sys.rows == 0) return out;
-  const std::vector<uint64_t> keys = column_keys(sys, r.graph, whole_index);
+  r = std::move(prepared.contacts);
+  if (partial.bricks.empty() || prepared.system.rows == 0) return out;
+  const EquilibriumSystem& sys = prepared.system;
+  const std::vector<uint64_t>& keys = prepared.column_keys;
   if (certify_above_gf) {
     const auto begin = std::chrono::steady_clock::now();
     std::vector<double> from(keys.size(), 0.0);
@@ -100,7 +118,7 @@ StepStability analyze_step(const Assembly& partial, const std::vector<int>& whol
     if (const LoadSpread* spread = start.spread.get(); spread && spread->usable()) {
       std::vector<int> spread_body_of;
       Spreading spreading;
-      for (int whole : body_bricks(sys, whole_index)) {
+      for (int whole : prepared.body_bricks) {
         spread_body_of.push_back(spread->body_of_brick(whole));
         spreading.bodies.push_back(spread_body_of.back() >= 0);
       }
@@ -117,8 +135,8 @@ StepStability analyze_step(const Assembly& partial, const std::vector<int>& whol
   if (r.status == StabilityStatus::Solved) {
     std::shared_ptr<const LoadSpread> spread;
     if (certify_above_gf && !r.forces.empty())
-      spread = std::make_shared<const LoadSpread>(sys, keys, body_bricks(sys, whole_index),
-                                                  r.row_duals, r.cm);
+      spread =
+          std::make_shared<const LoadSpread>(sys, keys, prepared.body_bricks, r.row_duals, r.cm);
     out.forces = keyed(keys, r.forces, std::move(spread));
   }
   return out;

@@ -62,9 +62,23 @@ struct StepMargin {
 // of bounds at 35-40 gf, every step the LP solved at 67-71 gf).
 bool solve_weakest_again(const std::vector<StepMargin>& steps, int solved);
 
+// What a step's analysis needs before any forces: the contacts of the model after it, its
+// equilibrium system and its columns' keys in the whole model. It owes nothing to the steps
+// before, so the next step's is made while this one is decided (layout/build_order.cpp).
+struct StepSystem {
+  StabilityResult contacts;  // analyze_contacts and build_equilibrium's part of the result
+  EquilibriumSystem system;
+  std::vector<uint64_t> column_keys;
+  std::vector<int> body_bricks;  // per body of the system, its brick in the whole model
+};
+StepSystem prepare_step(const Assembly& partial, const std::vector<int>& whole_index,
+                        const StabilityOptions& options);
+
 // The model after a step: `partial`, whose brick i is brick whole_index[i] of the whole model.
 // With `certify_above_gf`, a certificate from `start` that C_M / g exceeds it is the answer;
-// otherwise, and when none is found, the LP's.
+// otherwise, and when none is found, the LP's. `prepared`: prepare_step's for the same model.
+StepStability analyze_step(const Assembly& partial, StepSystem prepared, const StepForces& start,
+                           const StabilityOptions& options, std::optional<double> certify_above_gf);
 StepStability analyze_step(const Assembly& partial, const std::vector<int>& whole_index,
                            const StepForces& start, const StabilityOptions& options,
                            std::optional<double> certify_above_gf);
