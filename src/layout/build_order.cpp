@@ -259,12 +259,18 @@ struct PreparedStep {
   physics::StepSystem system;
 };
 
-PreparedStep prepare_step(const Planner& p, const std::vector<int>& fresh,
+// The bricks the model has after a step of `fresh` ones.
+std::vector<char> placed_with(const Planner& p, const std::vector<int>& fresh) {
+  std::vector<char> in = p.placed;
+  for (int i : fresh) in[size_t(i)] = 1;
+  return in;
+}
+
+PreparedStep prepare_step(const Assembly& a, std::vector<char> in,
                           const BuildOrderOptions& options) {
   PreparedStep out;
-  out.in = p.placed;
-  for (int i : fresh) out.in[size_t(i)] = 1;
-  out.partial = partial_assembly(p.a, out.in, out.whole_index);
+  out.in = std::move(in);
+  out.partial = partial_assembly(a, out.in, out.whole_index);
   if (options.analyse)
     out.system = physics::prepare_step(out.partial, out.whole_index, options.stability);
   return out;
@@ -277,9 +283,8 @@ StepAnalysis analyse_step(const Planner& p, PlannedStep planned, const BuildOrde
   StepAnalysis out;
   out.leaves_layer = planned.leaves_layer;
   std::vector<int> fresh = std::move(planned.bricks);
-  std::vector<char> in = p.placed;
-  for (int i : fresh) in[size_t(i)] = 1;
-  if (!prepared || prepared->in != in) prepared = prepare_step(p, fresh, options);
+  std::vector<char> in = placed_with(p, fresh);
+  if (!prepared || prepared->in != in) prepared = prepare_step(p.a, std::move(in), options);
   out.whole_index = std::move(prepared->whole_index);
   const Assembly& partial = prepared->partial;
   if (!options.analyse) {
@@ -489,9 +494,10 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
       after.commit(planned.bricks, planned.leaves_layer);
       if (prepare_ahead && !after.done()) {
         std::future<PreparedStep> next =
-            std::async(std::launch::async, [&after, bricks = after.next().bricks, &options] {
-              return prepare_step(after, bricks, options);
-            });
+            std::async(std::launch::async,
+                       [&a, in = placed_with(after, after.next().bricks), &options]() mutable {
+                         return prepare_step(a, std::move(in), options);
+                       });
         now = analyse_step(p, std::move(planned), options, std::move(prepared));
         prepared = next.get();
         ++out.analyses;
