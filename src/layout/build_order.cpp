@@ -113,8 +113,6 @@ struct Planner {
   std::vector<char> placed, reachable;    // reachable: the ground or a placed brick holds it
   // Supports standing on the ground through supports alone: the columns built first.
   std::vector<char> grounded_support;
-  // Forces that balance the last step: the next one's certificate begins from them.
-  physics::StepForces built;
   // Per brick: its group of nearby bricks of its layer (nearby_groups.h), numbered layer by
   // layer from the ground up. Planned once for the whole layer, so that each group stays
   // compact whatever is placed before it.
@@ -276,15 +274,35 @@ PreparedStep prepare_step(const Assembly& a, std::vector<char> in,
   return out;
 }
 
-// `prepared`: made ahead for a step planned as this one might be; used where it has the same
-// bricks.
-StepAnalysis analyse_step(const Planner& p, PlannedStep planned, const BuildOrderOptions& options,
-                          std::optional<PreparedStep> prepared = std::nullopt) {
+// A step the LP solved while the steps before it were certified (plan_build_order), with the
+// spread that the steps after it are certified from.
+struct SolvedStep {
+  PreparedStep prepared;  // its system moved into the analysis
+  physics::StepStability analysis;
+};
+
+SolvedStep solve_step(const Assembly& a, std::vector<char> in, const BuildOrderOptions& options) {
+  SolvedStep out;
+  out.prepared = prepare_step(a, std::move(in), options);
+  out.analysis = physics::solve_step(out.prepared.partial, std::move(out.prepared.system),
+                                     options.stability, /*spread=*/true);
+  return out;
+}
+
+// `prepared`: made ahead for a step planned as this one might be, used where it has the same
+// bricks; `solved`: this step's own, solved ahead.
+StepAnalysis analyse_step(const Planner& p, const physics::StepForces& built, PlannedStep planned,
+                          const BuildOrderOptions& options,
+                          std::optional<PreparedStep> prepared = std::nullopt,
+                          std::optional<SolvedStep> solved = std::nullopt) {
   StepAnalysis out;
   out.leaves_layer = planned.leaves_layer;
   std::vector<int> fresh = std::move(planned.bricks);
   std::vector<char> in = placed_with(p, fresh);
-  if (!prepared || prepared->in != in) prepared = prepare_step(p.a, std::move(in), options);
+  if (solved)
+    prepared = std::move(solved->prepared);
+  else if (!prepared || prepared->in != in)
+    prepared = prepare_step(p.a, std::move(in), options);
   out.whole_index = std::move(prepared->whole_index);
   const Assembly& partial = prepared->partial;
   if (!options.analyse) {
@@ -295,9 +313,11 @@ StepAnalysis analyse_step(const Planner& p, PlannedStep planned, const BuildOrde
     out.fresh = std::move(fresh);
     return out;
   }
-  physics::StepStability analysed = physics::analyze_step(
-      partial, std::move(prepared->system), p.built, options.stability,
-      options.certify ? std::optional<double>(options.min_cm_gf) : std::nullopt);
+  physics::StepStability analysed =
+      solved ? std::move(solved->analysis)
+             : physics::analyze_step(
+                   partial, std::move(prepared->system), built, options.stability,
+                   options.certify ? std::optional<double>(options.min_cm_gf) : std::nullopt);
   out.result = std::move(analysed.result);
   out.forces = std::move(analysed.forces);
   out.step.analysed = true;
@@ -422,6 +442,33 @@ void solve_weakest_step_exactly(const Assembly& a, const BuildOrderOptions& opti
   }
 }
 
+// The model some steps after the last one, planned as if they stand, being solved by the LP.
+struct SolvingAhead {
+  std::vector<char> in;
+  int bricks = 0;
+  std::future<SolvedStep> solved;
+};
+
+// `steps` steps after p's last, in another thread when `in_parallel` (else when asked: the same
+// result); none where p is done.
+std::optional<SolvingAhead> solve_ahead(const Planner& p, int steps,
+                                        const BuildOrderOptions& options, bool in_parallel) {
+  Planner later = p;
+  for (int k = 0; k < steps && !later.done(); ++k) {
+    const PlannedStep planned = later.next();
+    later.commit(planned.bricks, planned.leaves_layer);
+  }
+  if (later.placed_count == p.placed_count) return std::nullopt;
+  SolvingAhead out;
+  out.in = later.placed;
+  out.bricks = later.placed_count;
+  out.solved = std::async(in_parallel ? std::launch::async : std::launch::deferred,
+                          [&a = p.a, in = out.in, &options]() mutable {
+                            return solve_step(a, std::move(in), options);
+                          });
+  return out;
+}
+
 }  // namespace
 
 // One loop of ~120 lines, for a reason: the planner, the step analysed ahead, the best attempt at
@@ -454,10 +501,31 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
   };
   std::optional<Attempt> best;
   int repairs = 0, falling_in_a_row = 0;
+  // Forces that balance the last step: the next one's certificate begins from them (no part of
+  // a plan: the planner is copied to plan ahead).
+  physics::StepForces built;
+  // The certificates' bounds fall from one LP's C_M to the share where a step asks the LP again
+  // (step_stability.h) over 20 to 30 steps, each LP a second or two at height 40. So after a step
+  // the LP solved, the model options.solve_ahead.steps steps on, planned as if they stand, is
+  // solved in another thread while they are certified; the step that has exactly its bricks
+  // takes it (where a step falls and is planned again, maybe none), and the steps after it
+  // certify from its spread. With --jobs 1 it is solved when that step comes: the same order,
+  // an LP more on the one thread. Not below options.solve_ahead.from_bricks: an LP there takes
+  // a tenth of a second, and beside the certificates it slows them about as much (the bench's
+  // globe, 580 bricks: 0.44 -> 0.52 s). Measured in docs/performance.md (2026-12-07).
+  std::optional<SolvingAhead> solving;
+  std::vector<std::future<SolvedStep>> abandoned;  // their destructors wait for them
+  auto solved_for = [&](const PlannedStep& planned) -> std::optional<SolvedStep> {
+    if (!solving || solving->in != placed_with(p, planned.bricks)) return std::nullopt;
+    SolvedStep solved = solving->solved.get();
+    solving.reset();
+    ++out.solved_ahead;
+    return solved;
+  };
   // A step's bricks placed; `leaves_layer` keeps the cursor on its layer.
   auto place = [&](StepAnalysis& now, bool leaves_layer) {
     p.commit(now.fresh, leaves_layer);
-    if (!now.forces.empty()) p.built = std::move(now.forces);
+    if (!now.forces.empty()) built = std::move(now.forces);
     for (int i : now.fresh) out.step_of[size_t(i)] = int(out.steps.size()) + 1;
     out.steps.push_back(now.step);
     if (options.progress)
@@ -477,7 +545,7 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
     PlannedStep step;
     step.bricks.assign(supports.begin() + std::ptrdiff_t(from),
                        supports.begin() + std::ptrdiff_t(std::min(supports.size(), from + chunk)));
-    StepAnalysis now = analyse_step(p, std::move(step), options);
+    StepAnalysis now = analyse_step(p, built, std::move(step), options);
     ++out.analyses;
     ++out.supports_steps;
     falling_in_a_row = now.step.stands ? 0 : falling_in_a_row + 1;
@@ -492,23 +560,27 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
       PlannedStep planned = p.next();
       Planner after = p;
       after.commit(planned.bricks, planned.leaves_layer);
+      std::optional<SolvedStep> solved = solved_for(planned);
       if (prepare_ahead && !after.done()) {
         std::future<PreparedStep> next =
             std::async(std::launch::async,
                        [&a, in = placed_with(after, after.next().bricks), &options]() mutable {
                          return prepare_step(a, std::move(in), options);
                        });
-        now = analyse_step(p, std::move(planned), options, std::move(prepared));
+        now = analyse_step(p, built, std::move(planned), options, std::move(prepared),
+                           std::move(solved));
         prepared = next.get();
         ++out.analyses;
       } else if (after.done() || !options.analyse || !side_by_side) {
-        now = analyse_step(p, std::move(planned), options, std::move(prepared));
+        now = analyse_step(p, built, std::move(planned), options, std::move(prepared),
+                           std::move(solved));
         prepared.reset();
         ++out.analyses;
       } else {
         PlannedStep planned_after = after.next();
-        std::thread second([&] { ahead = analyse_step(after, std::move(planned_after), options); });
-        now = analyse_step(p, std::move(planned), options);
+        std::thread second(
+            [&] { ahead = analyse_step(after, built, std::move(planned_after), options); });
+        now = analyse_step(p, built, std::move(planned), options);
         second.join();
         out.analyses += 2;
       }
@@ -552,6 +624,15 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
     best.reset();
     repairs = 0;
     place(now, now.leaves_layer);
+    if (solving && p.placed_count >= solving->bricks) {  // planned on steps that were not
+      abandoned.push_back(std::move(solving->solved));
+      solving.reset();
+    }
+    const bool by_lp = now.step.analysed && !now.step.certified &&
+                       now.step.status == physics::StabilityStatus::Solved;
+    if (options.certify && options.solve_ahead.steps > 0 && by_lp && !solving &&
+        p.placed_count >= options.solve_ahead.from_bricks)
+      solving = solve_ahead(p, options.solve_ahead.steps, options, prepare_ahead);
   }
   solve_weakest_step_exactly(a, options, out);
   out.seconds = seconds_since(start);

@@ -28,6 +28,13 @@ struct BuildOrderOptions {
   // stands); with them, one by one (plan_build_order says why), the next step's model and
   // system made while this one is decided. False: one thing at a time. The order is the same.
   bool side_by_side = true;
+  // With certificates: after a step the LP solved on `from_bricks` bricks or more, the model
+  // `steps` steps on (planned as if they stand) is solved by the LP while they are certified, in
+  // another thread with side_by_side (plan_build_order says why). steps 0: never.
+  struct SolveAhead {
+    int steps = 25;
+    int from_bricks = 1000;
+  } solve_ahead;
   std::function<void(int step, int steps_so_far, double seconds)> progress;  // may be empty
   // How a step that falls names a brick of the assembly (legolize: its part and where it is on
   // the model, layout/where_on_model.h); empty: its part and lattice corner.
@@ -58,7 +65,8 @@ struct BuildOrder {
   int held_back = 0;  // bricks moved to a later step than their layer's to make a step stand
   // The first steps build the columns standing on the ground: how many (0: none).
   int supports_steps = 0;
-  int analyses = 0;  // stability analyses run
+  int analyses = 0;      // stability analyses run
+  int solved_ahead = 0;  // steps the LP solved while the steps before them were certified
   double seconds = 0;
   bool all_stand() const;  // every step analysed and standing
   int certified_steps() const;

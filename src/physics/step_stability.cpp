@@ -43,6 +43,20 @@ std::vector<int> body_bricks(const EquilibriumSystem& sys, const std::vector<int
   return out;
 }
 
+// The LP's part of a step's analysis, into out.result (which holds the contacts already).
+void solve(const Assembly& partial, const StepSystem& prepared, const StabilityOptions& options,
+           bool with_spread, StepStability& out) {
+  StabilityResult& r = out.result;
+  const EquilibriumSystem& sys = prepared.system;
+  solve_equilibrium(partial, sys, options, r);
+  if (r.status != StabilityStatus::Solved) return;
+  std::shared_ptr<const LoadSpread> spread;
+  if (with_spread && !r.forces.empty())
+    spread = std::make_shared<const LoadSpread>(sys, prepared.column_keys, prepared.body_bricks,
+                                                r.row_duals, r.cm);
+  out.forces = keyed(prepared.column_keys, r.forces, std::move(spread));
+}
+
 }  // namespace
 
 bool solve_weakest_again(const std::vector<StepMargin>& steps, int solved) {
@@ -131,14 +145,16 @@ StepStability analyze_step(const Assembly& partial, StepSystem prepared, const S
       return out;
     }
   }
-  solve_equilibrium(partial, sys, options, r);
-  if (r.status == StabilityStatus::Solved) {
-    std::shared_ptr<const LoadSpread> spread;
-    if (certify_above_gf && !r.forces.empty())
-      spread =
-          std::make_shared<const LoadSpread>(sys, keys, prepared.body_bricks, r.row_duals, r.cm);
-    out.forces = keyed(keys, r.forces, std::move(spread));
-  }
+  solve(partial, prepared, options, certify_above_gf.has_value(), out);
+  return out;
+}
+
+StepStability solve_step(const Assembly& partial, StepSystem prepared,
+                         const StabilityOptions& options, bool spread) {
+  StepStability out;
+  out.result = std::move(prepared.contacts);
+  if (partial.bricks.empty() || prepared.system.rows == 0) return out;
+  solve(partial, prepared, options, spread, out);
   return out;
 }
 

@@ -83,4 +83,9 @@ StepStability analyze_step(const Assembly& partial, const std::vector<int>& whol
                            const StepForces& start, const StabilityOptions& options,
                            std::optional<double> certify_above_gf);
 
+// The step solved by the LP alone, as analyze_step solves one no certificate decides: with
+// `spread`, the forces it gives carry the LoadSpread the steps after it are certified from.
+StepStability solve_step(const Assembly& partial, StepSystem prepared,
+                         const StabilityOptions& options, bool spread);
+
 }  // namespace lego::physics
