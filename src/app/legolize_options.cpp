@@ -138,7 +138,8 @@ void add_options(CLI::App& app, LegolizeOptions& o) {
       ->group(g_physics);
   app.add_option("--jobs", o.jobs,
                  "analyses run at once, one thread each (default 2): the refinement's two "
-                 "candidates per round; the output does not depend on it")
+                 "candidates per round; the build order's next step made, and an LP solved, "
+                 "ahead; the output does not depend on it")
       ->check(CLI::Range(1, 64))
       ->group(g_physics);
 
