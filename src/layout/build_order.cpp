@@ -471,10 +471,11 @@ std::optional<SolvingAhead> solve_ahead(const Planner& p, int steps,
 
 }  // namespace
 
-// One loop of ~120 lines, for a reason: the planner, the step analysed ahead, the best attempt at
-// a falling step with the holding back that led to it, and the repairs so far are read and
-// changed by every branch of it; the work of each branch is in functions already (Planner,
-// analyse_step, culprits_of, solve_weakest_step_exactly).
+// One loop of ~160 lines, for a reason: the planner, the forces the next step begins from, what
+// is made and solved ahead, the best attempt at a falling step with the holding back that led to
+// it, and the repairs so far are read and changed by every branch of it; the work of each branch
+// is in functions already (Planner, analyse_step, solve_ahead, culprits_of,
+// solve_weakest_step_exactly).
 BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   BuildOrder out;
