@@ -38,7 +38,9 @@ void expect_exact_where_not_certified(const Assembly& a, const BuildOrder& order
   for (size_t k = 0; k < order.steps.size(); ++k) {
     const BuildStep& s = order.steps[k];
     if (!s.analysed || s.certified || s.status != physics::StabilityStatus::Solved) continue;
-    Assembly partial;
+    Assembly partial;  // as the build order makes a step's model
+    partial.origin_ldu = a.origin_ldu;
+    partial.ground_height = a.ground_height;
     for (size_t i = 0; i < a.bricks.size(); ++i)
       if (order.step_of[i] <= int(k) + 1) partial.bricks.push_back(a.bricks[i]);
     const physics::StabilityResult r = physics::analyze_stability(partial, options.stability);
