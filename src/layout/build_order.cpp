@@ -6,6 +6,7 @@
 #include <future>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <thread>
@@ -120,6 +121,8 @@ struct Planner {
   int placed_count = 0;
   size_t cursor = 0;  // into layers
   int max_new = 0;    // bricks in one step at most (0: no limit)
+  // The whole model's contacts, each step's taken from them (physics::steps_contacts), or none.
+  std::shared_ptr<const physics::ContactGraph> model_contacts;
 
   Planner(const Assembly& assembly, physics::GroundMode ground, int max_new_bricks)
       : a(assembly), max_new(max_new_bricks) {
@@ -264,13 +267,14 @@ std::vector<char> placed_with(const Planner& p, const std::vector<int>& fresh) {
   return in;
 }
 
-PreparedStep prepare_step(const Assembly& a, std::vector<char> in,
-                          const BuildOrderOptions& options) {
+PreparedStep prepare_step(const Assembly& a, std::vector<char> in, const BuildOrderOptions& options,
+                          const physics::ContactGraph* model_contacts) {
   PreparedStep out;
   out.in = std::move(in);
   out.partial = partial_assembly(a, out.in, out.whole_index);
   if (options.analyse)
-    out.system = physics::prepare_step(out.partial, out.whole_index, options.stability);
+    out.system =
+        physics::prepare_step(out.partial, out.whole_index, options.stability, model_contacts);
   return out;
 }
 
@@ -281,9 +285,10 @@ struct SolvedStep {
   physics::StepStability analysis;
 };
 
-SolvedStep solve_step(const Assembly& a, std::vector<char> in, const BuildOrderOptions& options) {
+SolvedStep solve_step(const Assembly& a, std::vector<char> in, const BuildOrderOptions& options,
+                      const physics::ContactGraph* model_contacts) {
   SolvedStep out;
-  out.prepared = prepare_step(a, std::move(in), options);
+  out.prepared = prepare_step(a, std::move(in), options, model_contacts);
   out.analysis = physics::solve_step(out.prepared.partial, std::move(out.prepared.system),
                                      options.stability, /*spread=*/true);
   return out;
@@ -302,7 +307,7 @@ StepAnalysis analyse_step(const Planner& p, const physics::StepForces& built, Pl
   if (solved)
     prepared = std::move(solved->prepared);
   else if (!prepared || prepared->in != in)
-    prepared = prepare_step(p.a, std::move(in), options);
+    prepared = prepare_step(p.a, std::move(in), options, p.model_contacts.get());
   out.whole_index = std::move(prepared->whole_index);
   const Assembly& partial = prepared->partial;
   if (!options.analyse) {
@@ -463,8 +468,8 @@ std::optional<SolvingAhead> solve_ahead(const Planner& p, int steps,
   out.in = later.placed;
   out.bricks = later.placed_count;
   out.solved = std::async(in_parallel ? std::launch::async : std::launch::deferred,
-                          [&a = p.a, in = out.in, &options]() mutable {
-                            return solve_step(a, std::move(in), options);
+                          [&a = p.a, in = out.in, &options, contacts = p.model_contacts]() mutable {
+                            return solve_step(a, std::move(in), options, contacts.get());
                           });
   return out;
 }
@@ -482,6 +487,15 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
   out.step_of.assign(a.bricks.size(), 0);
   if (a.bricks.empty()) return out;
   Planner p(a, options.stability.ground, options.max_new_bricks);
+  // Each step's contacts taken from the whole model's: on the duck at height 40, 4.5 s of
+  // searching its 228 step models -> 0.24 s (docs/performance.md, 2026-12-07).
+  if (options.analyse) {
+    std::vector<int> every_index;
+    if (auto contacts = physics::steps_contacts(
+            partial_assembly(a, std::vector<char>(a.bricks.size(), 1), every_index),
+            options.stability))
+      p.model_contacts = std::make_shared<const physics::ContactGraph>(std::move(*contacts));
+  }
 
   // With the LP for every step, each step is analysed while the next one is, planned as if the
   // first stands (as it nearly always does): two analyses at a time, and the second thrown away
@@ -564,10 +578,10 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
       std::optional<SolvedStep> solved = solved_for(planned);
       if (prepare_ahead && !after.done()) {
         std::future<PreparedStep> next =
-            std::async(std::launch::async,
-                       [&a, in = placed_with(after, after.next().bricks), &options]() mutable {
-                         return prepare_step(a, std::move(in), options);
-                       });
+            std::async(std::launch::async, [&a, in = placed_with(after, after.next().bricks),
+                                            &options, contacts = p.model_contacts]() mutable {
+              return prepare_step(a, std::move(in), options, contacts.get());
+            });
         now = analyse_step(p, built, std::move(planned), options, std::move(prepared),
                            std::move(solved));
         prepared = next.get();

@@ -58,6 +58,55 @@ ContactGraph ContactGraph::connections(const Assembly& a, GroundMode ground, con
   return ContactGraphBuilder(a, ground, true, budget, false).build();
 }
 
+bool ContactGraph::pairwise() const {
+  return carried_groups.empty();
+}
+
+ContactGraph ContactGraph::among(const std::vector<int>& parts) const {
+  ContactGraph out;
+  out.ground = ground;
+  out.ground_height = ground_height;
+  out.ground_slope = ground_slope;
+  out.tips_over = tips_over;
+  std::vector<int> here(contacts_of.size(), -1);  // per part of this graph: its index there
+  for (size_t k = 0; k < parts.size(); ++k) here[size_t(parts[k])] = int(k);
+  out.contacts_of.resize(parts.size());
+  out.fixed.reserve(parts.size());
+  for (int p : parts) out.fixed.push_back(fixed[size_t(p)]);
+  // In this graph's order, which build() gives the parts' contacts in whatever else is there
+  // (ContactGraphBuilder::add_meeting_contacts sorts them by the parts' order, which `parts`
+  // keeps; the joints follow, by pairs of parts).
+  std::vector<int> kept_as(contacts.size(), -1);
+  for (size_t k = 0; k < contacts.size(); ++k) {
+    const Contact& c = contacts[k];
+    const int upper = here[size_t(c.upper)];
+    const int lower = c.lower == kGround ? kGround : here[size_t(c.lower)];
+    if (upper < 0 || (c.lower != kGround && lower < 0)) continue;
+    kept_as[k] = int(out.contacts.size());
+    Contact kept = c;
+    kept.upper = upper;
+    kept.lower = lower;
+    kept.first_point = uint32_t(out.friction_points.size());
+    out.friction_points.insert(out.friction_points.end(), friction_points.begin() + c.first_point,
+                               friction_points.begin() + c.first_point + c.point_count);
+    const int index = int(out.contacts.size());
+    if (lower != kGround) out.contacts_of[size_t(lower)].push_back(index);
+    out.contacts_of[size_t(upper)].push_back(index);
+    out.contacts.push_back(kept);
+  }
+  auto joints = [&](const std::vector<int>& of, std::vector<int>& into) {
+    for (int k : of)
+      if (kept_as[size_t(k)] >= 0) into.push_back(kept_as[size_t(k)]);
+  };
+  joints(lattice_joints, out.lattice_joints);
+  joints(pivot_joints, out.pivot_joints);
+  joints(shaft_joints, out.shaft_joints);
+  for (const auto& [i, j] : overlaps)
+    if (here[size_t(i)] >= 0 && here[size_t(j)] >= 0)
+      out.overlaps.emplace_back(here[size_t(i)], here[size_t(j)]);
+  return out;
+}
+
 ContactGraphBuilder::ContactGraphBuilder(const Assembly& a, GroundMode ground, bool assumed_joints,
                                          const Budget* budget, bool friction_points)
     : a_(a),
@@ -227,8 +276,11 @@ void ContactGraphBuilder::add_meeting_contacts() {
     const int primary =
         axis == 1 ? (positive ? m->upper : m->lower) : (positive ? m->lower : m->upper);
     const double f0 = m->has_patch ? m->patch.u0 : 0, s0 = m->has_patch ? m->patch.v0 : 0;
+    // The plane and the lattice last: two meetings of one pair can differ only there (a part of
+    // several boxes), and the sort, not stable, would order them as the other meetings around
+    // them fall (ContactGraph::among takes a step's contacts from the whole model's in order).
     return std::make_tuple(axis == 1 ? 0 : 1, primary, axis, f0, s0, m->lower, m->upper,
-                           m->direction);
+                           m->direction, m->plane, m->turned);
   };
   std::sort(ordered.begin(), ordered.end(),
             [&](const Meeting* x, const Meeting* y) { return order_key(x) < order_key(y); });

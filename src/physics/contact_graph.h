@@ -120,6 +120,17 @@ struct ContactGraph {
   // connectivity needs (the audit's passes over what floats), at about four fifths of the cost.
   static ContactGraph connections(const Assembly& assembly, GroundMode ground,
                                   const Budget* budget = nullptr);
+
+  // Whether each contact owes nothing to parts other than its two (or its part and the ground):
+  // no carried parts, which tie together every part they touch (studs, faces, shafts, hinges and
+  // lattices that touch are pairs). Then the graph of an assembly made of some of these parts is
+  // among()'s, when its ground is the same given one (Assembly::ground_height, not found from the
+  // parts it has).
+  bool pairwise() const;
+  // The graph of the assembly made of these parts (`parts`: indices here, ascending; its part k
+  // is parts[k] here), as build() makes it, for a pairwise() graph: a build step's contacts
+  // without a search of the model for each step (layout/build_order.cpp).
+  ContactGraph among(const std::vector<int>& parts) const;
 };
 
 // The knob rim radius R (LDU).

@@ -72,15 +72,32 @@ bool solve_weakest_again(const std::vector<StepMargin>& steps, int solved) {
 }
 
 StepSystem prepare_step(const Assembly& partial, const std::vector<int>& whole_index,
-                        const StabilityOptions& options) {
+                        const StabilityOptions& options, const ContactGraph* model_contacts) {
   StepSystem out;
-  out.contacts = analyze_contacts(partial, options);
+  if (model_contacts) {  // analyze_contacts' part, the graph taken from the model's
+    const auto begin = std::chrono::steady_clock::now();
+    out.contacts.graph = model_contacts->among(whole_index);
+    out.contacts.connectivity =
+        analyze_connectivity(int(partial.bricks.size()), out.contacts.graph);
+    out.contacts.stats.graph_seconds = seconds_since(begin);
+  } else {
+    out.contacts = analyze_contacts(partial, options);
+  }
   if (partial.bricks.empty()) return out;
   out.system = build_equilibrium(partial, out.contacts, options);
   if (out.system.rows == 0) return out;
   out.column_keys = column_keys(out.system, out.contacts.graph, whole_index);
   out.body_bricks = body_bricks(out.system, whole_index);
   return out;
+}
+
+std::optional<ContactGraph> steps_contacts(const Assembly& model, const StabilityOptions& options) {
+  // Without a given ground, each step's is found from its own parts (or the table it settles on).
+  if (!model.ground_height || !model.carried.empty()) return std::nullopt;
+  ContactGraph graph =
+      ContactGraph::build(model, options.ground, options.assumed_joints, options.budget);
+  if (!graph.pairwise()) return std::nullopt;
+  return graph;
 }
 
 StepStability analyze_step(const Assembly& partial, const std::vector<int>& whole_index,

@@ -71,8 +71,17 @@ struct StepSystem {
   std::vector<uint64_t> column_keys;
   std::vector<int> body_bricks;  // per body of the system, its brick in the whole model
 };
+// `model_contacts`: steps_contacts' for the whole model, or none (each step's contacts are then
+// searched for in its model, about 20 ms a step at 4,000 bricks).
 StepSystem prepare_step(const Assembly& partial, const std::vector<int>& whole_index,
-                        const StabilityOptions& options);
+                        const StabilityOptions& options,
+                        const ContactGraph* model_contacts = nullptr);
+
+// The contacts of a whole model, from which each build step's are taken (ContactGraph::among)
+// where that is what a search of the step's model finds: every contact owes nothing to a third
+// part, and the ground is given. `model`: every brick, as the steps' models have them (the same
+// ground, no carried parts). None where a step's contacts must be searched for.
+std::optional<ContactGraph> steps_contacts(const Assembly& model, const StabilityOptions& options);
 
 // The model after a step: `partial`, whose brick i is brick whole_index[i] of the whole model.
 // With `certify_above_gf`, a certificate from `start` that C_M / g exceeds it is the answer;
