@@ -567,6 +567,7 @@ Vec conjugate_gradients(const NormalFactor& factor, const std::function<Vec(cons
     const double alpha = rz / curvature;
     v += alpha * d;
     residual -= alpha * Md;
+    if (residual.norm() <= target) break;  // the next direction's solve would go unused
     z = factor.solve(residual);
     const double rz_next = residual.dot(z);
     d = z + (rz_next / rz) * d;
