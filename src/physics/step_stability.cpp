@@ -91,12 +91,17 @@ StepSystem prepare_step(const Assembly& partial, const std::vector<int>& whole_i
   return out;
 }
 
+bool steps_take_contacts_from(const ContactGraph& graph) {
+  // On a tilted table the ground's studs and baseplates are found from the parts' lowest point.
+  return graph.pairwise() && graph.ground_slope == std::array<double, 2>{0, 0};
+}
+
 std::optional<ContactGraph> steps_contacts(const Assembly& model, const StabilityOptions& options) {
   // Without a given ground, each step's is found from its own parts (or the table it settles on).
   if (!model.ground_height || !model.carried.empty()) return std::nullopt;
   ContactGraph graph =
       ContactGraph::build(model, options.ground, options.assumed_joints, options.budget);
-  if (!graph.pairwise()) return std::nullopt;
+  if (!steps_take_contacts_from(graph)) return std::nullopt;
   return graph;
 }
 

@@ -77,10 +77,12 @@ StepSystem prepare_step(const Assembly& partial, const std::vector<int>& whole_i
                         const StabilityOptions& options,
                         const ContactGraph* model_contacts = nullptr);
 
-// The contacts of a whole model, from which each build step's are taken (ContactGraph::among)
-// where that is what a search of the step's model finds: every contact owes nothing to a third
-// part, and the ground is given. `model`: every brick, as the steps' models have them (the same
-// ground, no carried parts). None where a step's contacts must be searched for.
+// Whether the build steps' contacts can be taken from `graph`, the whole model's, for steps
+// built on its ground (Assembly::ground_height its ground_height): what a search of a step's
+// model finds where every contact owes nothing to a third part and the ground is level.
+bool steps_take_contacts_from(const ContactGraph& graph);
+// The contacts of a whole model whose steps take theirs from it, or none. `model`: every brick,
+// as the steps' models have them (the same given ground, no carried parts).
 std::optional<ContactGraph> steps_contacts(const Assembly& model, const StabilityOptions& options);
 
 // The model after a step: `partial`, whose brick i is brick whole_index[i] of the whole model.

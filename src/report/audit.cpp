@@ -501,9 +501,17 @@ StepAudit judge_step(const Audit& from, int step,
   }
   physics::StabilityOptions stability = options.stability;
   if (on_table) stability.ground = physics::GroundMode::Table;
-  physics::StepStability analysed =
-      physics::analyze_step(partial, whole_index, start ? *start : physics::StepForces{}, stability,
-                            start ? std::optional<double>(options.min_cm_gf) : std::nullopt);
+  // Built on the finished model's ground, a step's contacts are the model's among its parts
+  // where those are pairs (legolize's outputs); else searched for in the step's model.
+  const physics::ContactGraph& model_graph = from.stability.graph;
+  const bool from_model = !on_table && partial.carried.empty() &&
+                          model_graph.contacts_of.size() == whole.bricks.size() &&
+                          physics::steps_take_contacts_from(model_graph);
+  physics::StepStability analysed = physics::analyze_step(
+      partial,
+      physics::prepare_step(partial, whole_index, stability, from_model ? &model_graph : nullptr),
+      start ? *start : physics::StepForces{}, stability,
+      start ? std::optional<double>(options.min_cm_gf) : std::nullopt);
   const physics::StabilityResult& r = analysed.result;
   s.status = r.status;
   s.cm_gf = r.cm_gf();
