@@ -66,8 +66,7 @@ ContactGraph ContactGraph::among(const std::vector<int>& parts) const {
   ContactGraph out;
   out.ground = ground;
   out.ground_height = ground_height;
-  out.ground_slope = ground_slope;
-  out.tips_over = tips_over;
+  out.ground_slope = ground_slope;  // tips_over is the whole model's (analyze_contacts): not kept
   std::vector<int> here(contacts_of.size(), -1);  // per part of this graph: its index there
   for (size_t k = 0; k < parts.size(); ++k) here[size_t(parts[k])] = int(k);
   out.contacts_of.resize(parts.size());
