@@ -15,7 +15,9 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
+#include <unordered_map>
 
 #include <fcntl.h>
 #include <sys/resource.h>
@@ -29,6 +31,8 @@
 #include "layout/reconfigure.h"
 #include "layout/refine.h"
 #include "mesh/mesh.h"
+#include "physics/clp_lp.h"
+#include "physics/step_stability.h"
 #include "physics_bench.h"
 #include "report/audit.h"
 #include "shapes.h"
@@ -466,6 +470,103 @@ void corpus_heat_section(const fs::path& shared, double max_seconds) {
              number(analysis_seconds, "{:.1f}"), worst, worst_ratio);
 }
 
+// Steps whose forces only grow (issue 36, by name: `--only monotone`, `--only monotone-duck`):
+// each step's model balanced by the step before's forces plus increments that add to pushes and
+// frictions and lower none, the largest friction least (one LP of the increments per step, by
+// Clp's simplex: minutes, not a timing). Such forces stay valid for every step before (a sum of
+// increments that each balance their own step's new weight), so one bound covers them all. Beside
+// it, each step's exact C_M (the same LP, forces free to fall) and the build order's value.
+void monotone_steps_section(const std::vector<std::pair<std::string, layout::Target>>& targets) {
+  using physics::ForceKind;
+  fmt::print("\nbuild steps whose forces only grow: the bound they keep against each step's C_M\n");
+  fmt::print("{:<12} {:>5} {:>6} {:>9} {:>9} {:>9} {:>5} {:>7}\n", "input", "step", "bricks",
+             "exact", "monotone", "order", "cert", "lp_s");
+  for (const auto& [name, target] : targets) {
+    layout::Layout lay(target);
+    Random rng(1);
+    layout::MergeRules rules;
+    layout::ConnectOptions connect;
+    connect.ground_connects = true;
+    layout::initialize_layout(lay, rules, rng, connect);
+    layout::RefineOptions options;
+    options.ground_connects = true;
+    layout::refine_layout(lay, BrickCatalog::standard(), rules, rng, options);
+    Assembly a = layout::to_assembly(lay, BrickCatalog::standard(), 72).assembly;
+    layout::BuildOrderOptions order_options;
+    order_options.stability = options.stability;
+    const layout::BuildOrder order = layout::plan_build_order(a, order_options);
+    // Forces by column key (physics::StepSystem): the monotone ones so far.
+    std::unordered_map<uint64_t, double> grown;
+    for (size_t k = 0; k < order.steps.size(); ++k) {
+      Assembly partial;
+      partial.ground_height = a.ground_height;
+      std::vector<int> whole_index;
+      for (size_t i = 0; i < a.bricks.size(); ++i)
+        if (order.step_of[i] <= int(k) + 1) {
+          partial.bricks.push_back(a.bricks[i]);
+          whole_index.push_back(int(i));
+        }
+      const physics::StepSystem step =
+          physics::prepare_step(partial, whole_index, options.stability);
+      const physics::EquilibriumSystem& sys = step.system;
+      if (sys.rows == 0) continue;
+      // max t: A·(x + dx) = b, x + dx within the bounds, every friction ≤ T − t; with `grow`,
+      // dx ≥ 0 on pushes and frictions. C_M (gf) the forces x + dx keep, into `forces`.
+      auto least_friction = [&](std::unordered_map<uint64_t, double>& forces, bool grow) {
+        constexpr double inf = std::numeric_limits<double>::infinity();
+        std::vector<double> x(size_t(sys.columns()), 0.0);
+        for (int j = 0; j < sys.columns(); ++j)
+          if (const auto it = forces.find(step.column_keys[size_t(j)]); it != forces.end())
+            x[size_t(j)] = it->second;
+        const std::vector<double> unbalanced = sys.unbalanced(x);
+        physics::LpData lp;
+        lp.rows = sys.rows + sys.friction_columns;  // the friction columns come first
+        std::vector<std::pair<int, double>> entries;
+        for (int j = 0; j < sys.columns(); ++j) {
+          entries.clear();
+          for (int e = sys.column_start[size_t(j)]; e < sys.column_start[size_t(j) + 1]; ++e)
+            entries.emplace_back(sys.row_index[size_t(e)], sys.value[size_t(e)]);
+          const double lower = grow ? 0.0 : -x[size_t(j)];
+          if (sys.kind[size_t(j)] == ForceKind::Friction) {
+            entries.emplace_back(sys.rows + j, 1.0);
+            lp.add_column(lower, physics::kMaxFrictionLoad - x[size_t(j)], 0.0, entries);
+          } else {
+            lp.add_column(sys.kind[size_t(j)] == ForceKind::Normal ? lower : -inf, inf, 0.0,
+                          entries);
+          }
+        }
+        entries.clear();
+        for (int j = 0; j < sys.friction_columns; ++j) entries.emplace_back(sys.rows + j, -1.0);
+        lp.add_column(0.0, physics::kMaxFrictionLoad, 1.0, entries);  // the largest friction
+        for (int r = 0; r < sys.rows; ++r) {
+          lp.row_lower.push_back(unbalanced[size_t(r)]);
+          lp.row_upper.push_back(unbalanced[size_t(r)]);
+        }
+        for (int j = 0; j < sys.friction_columns; ++j) {
+          lp.row_lower.push_back(-inf);
+          lp.row_upper.push_back(-x[size_t(j)]);
+        }
+        const physics::LpSolution s =
+            physics::solve_lp(lp, physics::LpMethod::DualSimplex, true, true, 600);
+        if (s.outcome != physics::LpOutcome::Optimal) return -inf;
+        for (int j = 0; j < sys.columns(); ++j)
+          forces[step.column_keys[size_t(j)]] = x[size_t(j)] + s.x[size_t(j)];
+        return (physics::kMaxFrictionLoad - s.x.back()) / kGravity;
+      };
+      const auto t = Clock::now();
+      const double monotone = least_friction(grown, true);
+      const double lp_s = seconds_since(t);
+      std::unordered_map<uint64_t, double> none;
+      const double exact = least_friction(none, false);
+      fmt::print("{:<12} {:>5} {:>6} {:>9} {:>9} {:>9} {:>5} {:>7}\n", name, k + 1,
+                 partial.bricks.size(), number(exact), number(monotone),
+                 number(order.steps[k].cm_gf), order.steps[k].certified ? "yes" : "no",
+                 number(lp_s, "{:.2f}"));
+      std::fflush(stdout);
+    }
+  }
+}
+
 // Build steps (issue 16): legolize's layout of each mesh (initialized and refined, as legolize
 // does), its layers taken as steps the way legolize wrote them before the building order, and
 // the building order (layout/build_order.h): the steps that stand in each, the smallest step C_M,
@@ -825,6 +926,14 @@ int main(int argc, char** argv) {
     if (!quick) add("steps-spider-h20", assimp / "OBJ" / "spider.obj", {.height_bricks = 20});
     add("steps-human-h20", assimp / "BLEND" / "HUMAN.blend", {.height_bricks = 20});
     steps_section(targets, loads);
+  }
+  if (only.rfind("monotone", 0) == 0) {  // minutes: only when asked for by name
+    const fs::path duck = "/usr/share/assimp/models/Collada/duck.dae";
+    if (only == "monotone-duck" && fs::exists(duck))
+      monotone_steps_section({{"duck-h20", from_mesh(duck, {.height_bricks = 20})}});
+    else
+      monotone_steps_section(
+          {{"globe-h16", from_mesh(source / "samples" / "globe.ply", {.height_bricks = 16})}});
   }
   if (wanted("meshes")) {
     const fs::path assimp = "/usr/share/assimp/models";
