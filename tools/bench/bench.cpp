@@ -470,6 +470,29 @@ void corpus_heat_section(const fs::path& shared, double max_seconds) {
              number(analysis_seconds, "{:.1f}"), worst, worst_ratio);
 }
 
+// legolize's layout of a target, initialized and refined as legolize does, with `top_grams` on
+// its top: the assembly (the load in it), the options it was refined with, and its height.
+struct RefinedLayout {
+  Assembly assembly;
+  layout::RefineOptions options;
+  int height = 0;
+};
+RefinedLayout refined_layout(const layout::Target& target, double top_grams) {
+  layout::Layout lay(target);
+  Random rng(1);
+  layout::MergeRules rules;
+  layout::ConnectOptions connect;
+  connect.ground_connects = true;
+  layout::initialize_layout(lay, rules, rng, connect);
+  RefinedLayout out;
+  out.options.ground_connects = true;
+  out.options.loads.top_grams = top_grams;
+  layout::refine_layout(lay, BrickCatalog::standard(), rules, rng, out.options);
+  out.assembly = layout::to_assembly(lay, BrickCatalog::standard(), 72, out.options.loads).assembly;
+  out.height = lay.height();
+  return out;
+}
+
 // Steps whose forces only grow (issue 36, by name: `--only monotone`, `--only monotone-duck`):
 // each step's model balanced by the step before's forces plus increments that add to pushes and
 // frictions and lower none, the largest friction least (one LP of the increments per step, by
@@ -482,18 +505,11 @@ void monotone_steps_section(const std::vector<std::pair<std::string, layout::Tar
   fmt::print("{:<12} {:>5} {:>6} {:>9} {:>9} {:>9} {:>5} {:>7}\n", "input", "step", "bricks",
              "exact", "monotone", "order", "cert", "lp_s");
   for (const auto& [name, target] : targets) {
-    layout::Layout lay(target);
-    Random rng(1);
-    layout::MergeRules rules;
-    layout::ConnectOptions connect;
-    connect.ground_connects = true;
-    layout::initialize_layout(lay, rules, rng, connect);
-    layout::RefineOptions options;
-    options.ground_connects = true;
-    layout::refine_layout(lay, BrickCatalog::standard(), rules, rng, options);
-    Assembly a = layout::to_assembly(lay, BrickCatalog::standard(), 72).assembly;
+    const RefinedLayout refined = refined_layout(target, 0);
+    const Assembly& a = refined.assembly;
+    const physics::StabilityOptions& stability = refined.options.stability;
     layout::BuildOrderOptions order_options;
-    order_options.stability = options.stability;
+    order_options.stability = stability;
     const layout::BuildOrder order = layout::plan_build_order(a, order_options);
     // Forces by column key (physics::StepSystem): the monotone ones so far.
     std::unordered_map<uint64_t, double> grown;
@@ -506,8 +522,7 @@ void monotone_steps_section(const std::vector<std::pair<std::string, layout::Tar
           partial.bricks.push_back(a.bricks[i]);
           whole_index.push_back(int(i));
         }
-      const physics::StepSystem step =
-          physics::prepare_step(partial, whole_index, options.stability);
+      const physics::StepSystem step = physics::prepare_step(partial, whole_index, stability);
       const physics::EquilibriumSystem& sys = step.system;
       if (sys.rows == 0) continue;
       // max t: A·(x + dx) = b, x + dx within the bounds, every friction ≤ T − t; with `grow`,
@@ -580,24 +595,15 @@ void steps_section(const std::vector<std::pair<std::string, layout::Target>>& ta
              "order_s", "final_s", "ratio", "max_new", "certified");
   for (size_t k = 0; k < targets.size(); ++k) {
     const auto& [name, target] = targets[k];
-    layout::Layout lay(target);
-    Random rng(1);
-    layout::MergeRules rules;
-    layout::ConnectOptions connect;
-    connect.ground_connects = true;
-    layout::initialize_layout(lay, rules, rng, connect);
-    layout::RefineOptions options;
-    options.ground_connects = true;
-    options.loads.top_grams = loads[k];
-    layout::refine_layout(lay, BrickCatalog::standard(), rules, rng, options);
-    const Assembly a =
-        layout::to_assembly(lay, BrickCatalog::standard(), 72, options.loads).assembly;
+    const RefinedLayout refined = refined_layout(target, loads[k]);
+    const Assembly& a = refined.assembly;
+    const layout::RefineOptions& options = refined.options;
     auto t = Clock::now();
     physics::analyze_stability(a, options.stability);
     const double final_s = seconds_since(t);
     // Layer steps: everything up to a layer, without loads (a load is the finished model's).
     int layers = 0, layers_stand = 0;
-    for (int top = 0; top < lay.height(); ++top) {
+    for (int top = 0; top < refined.height; ++top) {
       Assembly partial;
       partial.ground_height = a.ground_height;
       for (const Brick& b : a.bricks)
