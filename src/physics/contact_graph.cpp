@@ -88,9 +88,8 @@ ContactGraph ContactGraph::among(const std::vector<int>& parts) const {
     kept.first_point = uint32_t(out.friction_points.size());
     out.friction_points.insert(out.friction_points.end(), friction_points.begin() + c.first_point,
                                friction_points.begin() + c.first_point + c.point_count);
-    const int index = int(out.contacts.size());
-    if (lower != kGround) out.contacts_of[size_t(lower)].push_back(index);
-    out.contacts_of[size_t(upper)].push_back(index);
+    if (lower != kGround) out.contacts_of[size_t(lower)].push_back(kept_as[k]);
+    out.contacts_of[size_t(upper)].push_back(kept_as[k]);
     out.contacts.push_back(kept);
   }
   auto joints = [&](const std::vector<int>& of, std::vector<int>& into) {

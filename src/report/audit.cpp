@@ -502,10 +502,10 @@ StepAudit judge_step(const Audit& from, int step,
   physics::StabilityOptions stability = options.stability;
   if (on_table) stability.ground = physics::GroundMode::Table;
   // Built on the finished model's ground, a step's contacts are the model's among its parts
-  // where those are pairs (legolize's outputs); else searched for in the step's model.
+  // where those are pairs (legolize's outputs: no carried parts); else searched for in the
+  // step's model.
   const physics::ContactGraph& model_graph = from.stability.graph;
-  const bool from_model = !on_table && partial.carried.empty() &&
-                          model_graph.contacts_of.size() == whole.bricks.size() &&
+  const bool from_model = !on_table && model_graph.contacts_of.size() == whole.bricks.size() &&
                           physics::steps_take_contacts_from(model_graph);
   physics::StepStability analysed = physics::analyze_step(
       partial,
