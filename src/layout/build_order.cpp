@@ -438,6 +438,8 @@ void solve_weakest_step_exactly(const Assembly& a, const BuildOrderOptions& opti
     const auto r =
         physics::analyze_stability(partial_assembly(a, in, whole_index), options.stability);
     ++order.analyses;
+    ++order.lp_solves;
+    order.lp_seconds += r.stats.solve_seconds;
     BuildStep& s = order.steps[size_t(weakest)];
     s.status = r.status;
     s.cm_gf = r.status == physics::StabilityStatus::Solved ? r.cm_gf() : 0;
@@ -555,6 +557,12 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
     if (p.grounded_support[size_t(i)]) supports.push_back(i);
   std::stable_sort(supports.begin(), supports.end(),
                    [&](int a, int b) { return p.layer[size_t(a)] < p.layer[size_t(b)]; });
+  // The analyses the LP decided, with its time.
+  auto tally = [&](const StepAnalysis& s) {
+    if (!s.step.analysed || s.result.certified || s.result.stats.solver.empty()) return;
+    ++out.lp_solves;
+    out.lp_seconds += s.result.stats.solve_seconds;
+  };
   const size_t chunk = options.max_new_bricks > 0 ? size_t(options.max_new_bricks) : SIZE_MAX;
   for (size_t from = 0; from < supports.size(); from += chunk) {
     PlannedStep step;
@@ -562,6 +570,7 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
                        supports.begin() + std::ptrdiff_t(std::min(supports.size(), from + chunk)));
     StepAnalysis now = analyse_step(p, built, std::move(step), options);
     ++out.analyses;
+    tally(now);
     ++out.supports_steps;
     falling_in_a_row = now.step.stands ? 0 : falling_in_a_row + 1;
     place(now, /*leaves_layer=*/true);
@@ -586,11 +595,13 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
                            std::move(solved));
         prepared = next.get();
         ++out.analyses;
+        tally(now);
       } else if (after.done() || !options.analyse || !side_by_side) {
         now = analyse_step(p, built, std::move(planned), options, std::move(prepared),
                            std::move(solved));
         prepared.reset();
         ++out.analyses;
+        tally(now);
       } else {
         PlannedStep planned_after = after.next();
         std::thread second(
@@ -598,6 +609,8 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
         now = analyse_step(p, built, std::move(planned), options);
         second.join();
         out.analyses += 2;
+        tally(now);
+        tally(*ahead);
       }
     }
     if (now.step.analysed && !now.step.stands && now.step.floating == 0) {

@@ -68,6 +68,10 @@ struct BuildOrder {
   int analyses = 0;      // stability analyses run
   int solved_ahead = 0;  // steps the LP solved while the steps before them were certified
   double seconds = 0;
+  // Of the analyses, those the LP solved (steps no certificate decided, the weakest step's exact
+  // C_M) and their LPs' time: on another thread for the steps solved ahead.
+  int lp_solves = 0;
+  double lp_seconds = 0;
   bool all_stand() const;  // every step analysed and standing
   int certified_steps() const;
   // The smallest C_M / g of the analysed steps is a certificate's bound, not the LP's value.

@@ -3,6 +3,8 @@
 // the LP solved ahead has the LP's C_M of its own bricks.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "layout/build_order.h"
 #include "layout/layout.h"
 #include "layout/reconfigure.h"
@@ -81,6 +83,25 @@ TEST(BuildOrder, TakesAModelSolvedAheadOnlyForItsOwnStep) {
   BuildOrderOptions never = options;
   never.solve_ahead.steps = 0;
   EXPECT_EQ(plan_build_order(a, never).solved_ahead, 0);
+}
+
+// The LPs the order solved are counted, certified steps not among them: every analysis without
+// certificates, and with them the steps left uncertified (those solved ahead, the weakest step's).
+TEST(BuildOrder, CountsTheLpsItSolves) {
+  const Assembly a = laid_out(test::hollow_sphere(7, 2, 4), 3);
+  BuildOrderOptions options = few_bricks_a_step();
+  const BuildOrder order = plan_build_order(a, options);
+  ASSERT_TRUE(order.all_stand());
+  const auto by_lp = std::count_if(order.steps.begin(), order.steps.end(),
+                                   [](const BuildStep& s) { return s.analysed && !s.certified; });
+  ASSERT_GT(order.certified_steps(), 0);
+  EXPECT_EQ(order.lp_solves, by_lp);
+  EXPECT_GT(order.lp_seconds, 0);
+  EXPECT_LT(order.lp_seconds, order.seconds);
+  options.certify = false;
+  const BuildOrder every = plan_build_order(a, options);
+  EXPECT_EQ(every.certified_steps(), 0);
+  EXPECT_EQ(every.lp_solves, every.analyses);
 }
 
 // Steps that fall are planned again (their weakest new bricks held back): what was made ahead
