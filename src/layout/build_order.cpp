@@ -557,8 +557,9 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
     if (p.grounded_support[size_t(i)]) supports.push_back(i);
   std::stable_sort(supports.begin(), supports.end(),
                    [&](int a, int b) { return p.layer[size_t(a)] < p.layer[size_t(b)]; });
-  // The analyses the LP decided, with its time.
-  auto tally = [&](const StepAnalysis& s) {
+  // An analysis run; those the LP decided with its time.
+  auto count_analysis = [&](const StepAnalysis& s) {
+    ++out.analyses;
     if (!s.step.analysed || s.result.certified || s.result.stats.solver.empty()) return;
     ++out.lp_solves;
     out.lp_seconds += s.result.stats.solve_seconds;
@@ -569,8 +570,7 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
     step.bricks.assign(supports.begin() + std::ptrdiff_t(from),
                        supports.begin() + std::ptrdiff_t(std::min(supports.size(), from + chunk)));
     StepAnalysis now = analyse_step(p, built, std::move(step), options);
-    ++out.analyses;
-    tally(now);
+    count_analysis(now);
     ++out.supports_steps;
     falling_in_a_row = now.step.stands ? 0 : falling_in_a_row + 1;
     place(now, /*leaves_layer=*/true);
@@ -594,23 +594,20 @@ BuildOrder plan_build_order(const Assembly& a, const BuildOrderOptions& options)
         now = analyse_step(p, built, std::move(planned), options, std::move(prepared),
                            std::move(solved));
         prepared = next.get();
-        ++out.analyses;
-        tally(now);
+        count_analysis(now);
       } else if (after.done() || !options.analyse || !side_by_side) {
         now = analyse_step(p, built, std::move(planned), options, std::move(prepared),
                            std::move(solved));
         prepared.reset();
-        ++out.analyses;
-        tally(now);
+        count_analysis(now);
       } else {
         PlannedStep planned_after = after.next();
         std::thread second(
             [&] { ahead = analyse_step(after, built, std::move(planned_after), options); });
         now = analyse_step(p, built, std::move(planned), options);
         second.join();
-        out.analyses += 2;
-        tally(now);
-        tally(*ahead);
+        count_analysis(now);
+        count_analysis(*ahead);
       }
     }
     if (now.step.analysed && !now.step.stands && now.step.floating == 0) {
